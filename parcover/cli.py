@@ -1,0 +1,237 @@
+"""The ``parcover`` command line (design.md section 3): parse, call, print.
+
+Exit status: 0 on success (an ``infeasible`` answer is a success), 1 when ``verify``
+finds the solution invalid, 2 with one line on stderr for usage errors and bad input.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import NoReturn
+
+from parcover import generate as gen
+from parcover.errors import InputError
+from parcover.frontier import frontier
+from parcover.io import FileFormatError, read_instance, read_json, write_instance
+from parcover.solve import available_methods, solve
+from parcover.verify import InvalidSolution, verify
+
+__all__ = ["main"]
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (exit 2), as design.md section 3 asks."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status."""
+    parser = _build_parser()
+    args = parser.parse_args(argv)
+    if not hasattr(args, "run"):
+        parser.print_help(sys.stderr)
+        return 2
+    try:
+        return args.run(args)
+    except InputError as exc:
+        print(f"parcover {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"parcover {args.command}: interrupted", file=sys.stderr)
+        return 130
+
+
+# -- commands ------------------------------------------------------------------------
+
+
+def _solve(args: argparse.Namespace) -> int:
+    instance = read_instance(args.instance, metric=args.distance)
+    options = {"trace": True} if args.trace else {}
+    result = solve(
+        instance,
+        routes=args.routes,
+        robots=args.robots,
+        deadline=args.deadline,
+        method=args.method,
+        time_limit=args.time_limit,
+        seed=args.seed,
+        **options,
+    )
+    if args.trace and not args.json:
+        for line in result.info.get("trace", []):
+            print(line)
+        print()
+    _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
+    return 0
+
+
+def _verify(args: argparse.Namespace) -> int:
+    instance = read_instance(args.instance, metric=args.distance)
+    solution = read_json(args.solution)
+    if not (isinstance(solution, dict) and "routes" in solution) and not isinstance(solution, list):
+        raise FileFormatError(f"{args.solution}: not a solution: expected a JSON object with 'routes'.")
+    try:
+        verdict = verify(instance, solution)
+    except InvalidSolution as exc:
+        for problem in exc.problems:
+            print(f"invalid: {problem}")
+        return 1
+    summary = (
+        f"{verdict.robots} robot{'s' if verdict.robots != 1 else ''}, makespan {verdict.makespan:.10g}"
+        f" ({verdict.routes_kind})"
+    )
+    if not verdict.feasible:
+        for problem in verdict.violations():
+            print(f"invalid: {problem}")
+        print(f"routes are well formed: {summary}")
+        return 1
+    print(f"valid: {summary}")
+    return 0
+
+
+def _frontier(args: argparse.Namespace) -> int:
+    instance = read_instance(args.instance, metric=args.distance)
+    result = frontier(instance, args.routes, args.method, time_limit=args.time_limit, seed=args.seed)
+    _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
+    return 0
+
+
+def _generate(args: argparse.Namespace) -> int:
+    makers = {
+        "grid": lambda: gen.grid(args.rows, args.cols),
+        "star": lambda: gen.star(args.n, args.radius),
+        "random": lambda: gen.random_points(
+            args.n, args.seed, layout=args.layout, size=args.size, clusters=args.clusters, start=args.start
+        ),
+        "graph": lambda: gen.random_graph(args.n, args.seed, virtual=args.virtual, size=args.size, detour=args.detour),
+    }
+    instance = makers[args.kind]()
+    if args.name:
+        instance = instance.replace(name=args.name)
+    text = write_instance(instance)
+    if args.out:
+        _write(args.out, text)
+    else:
+        sys.stdout.write(text)
+    return 0
+
+
+# -- helpers -------------------------------------------------------------------------
+
+
+def _emit(text: str, json_text: str, out: str | None) -> None:
+    print(text)
+    if out:
+        _write(out, json_text + "\n")
+
+
+def _write(path: str, text: str) -> None:
+    try:
+        Path(path).write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"Cannot write {path}: {exc.strerror}.") from None
+
+
+def _positive_float(text: str) -> float:
+    value = _float(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text!r}")
+    return value
+
+
+def _float(text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+
+
+def _methods_epilog() -> str:
+    lines = ["methods:"]
+    for name, info in sorted(available_methods().items()):
+        lines.append(f"  {name:<12} {info.description}")
+    return "\n".join(lines)
+
+
+def _add_common(p: argparse.ArgumentParser, *, routes: bool = True) -> None:
+    p.add_argument("instance", help="instance file (.json per design.md, or TSPLIB .tsp)")
+    if routes:
+        p.add_argument("--routes", choices=("paths", "tours"), default="paths",
+                       help="paths: robots stay where they finish; tours: they come home (default: paths)")
+    p.add_argument("--distance", choices=("euclidean", "tsplib"), default=None,
+                   help="how coordinates become distances: exact Euclidean (default) or TSPLIB nint rounding")
+
+
+def _build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="parcover", description="Exact and greedy multi-robot parallel coverage.")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    p = commands.add_parser(
+        "solve", help="answer one coverage question",
+        description="Fewest robots within a deadline (default: the least possible makespan), "
+        "or least makespan with at most K robots.",
+        epilog=_methods_epilog(), formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    _add_common(p)
+    question = p.add_mutually_exclusive_group()
+    question.add_argument("--robots", type=int, metavar="K", help="at most K robots: minimise the makespan")
+    question.add_argument("--deadline", type=_float, metavar="C", help="every route within C: minimise the robots")
+    p.add_argument("--method", default="exact", help="solution method (see below; default: exact)")
+    limits = p.add_argument_group("limits")
+    limits.add_argument("--time-limit", type=_positive_float, metavar="SECONDS", help="time limit of the method")
+    limits.add_argument("--seed", type=int, default=0, help="seed of randomised methods (default: 0)")
+    p.add_argument("--trace", action="store_true", help="print every step of the paper's algorithms")
+    p.add_argument("--json", action="store_true", help="print the result as one JSON object")
+    p.add_argument("--out", metavar="FILE", help="also write the result JSON to FILE")
+    p.set_defaults(run=_solve)
+
+    p = commands.add_parser("verify", help="check a solution file against an instance",
+                            description="Exit 0 if valid, 1 with a reason per violation, 2 on unreadable input.")
+    _add_common(p, routes=False)
+    p.add_argument("solution", help="solution JSON (a result of 'solve --json', or an object with 'routes')")
+    p.set_defaults(run=_verify)
+
+    p = commands.add_parser("frontier", help="the robots-versus-makespan trade-off",
+                            epilog=_methods_epilog(), formatter_class=argparse.RawDescriptionHelpFormatter)
+    _add_common(p)
+    p.add_argument("--method", default="exact", help="solution method (default: exact)")
+    p.add_argument("--time-limit", type=_positive_float, metavar="SECONDS", help="time limit for each k")
+    p.add_argument("--seed", type=int, default=0, help="seed of randomised methods (default: 0)")
+    p.add_argument("--json", action="store_true", help="print the frontier as one JSON object")
+    p.add_argument("--out", metavar="FILE", help="also write the frontier JSON to FILE")
+    p.set_defaults(run=_frontier)
+
+    p = commands.add_parser("generate", help="write a generated instance file")
+    kinds = p.add_subparsers(dest="kind", metavar="KIND", required=True)
+    g = kinds.add_parser("grid", help="rows x cols cells, unit 4-neighbour moves, start in a corner (Fig. 1)")
+    g.add_argument("--rows", type=int, default=3)
+    g.add_argument("--cols", type=int, default=3)
+    g = kinds.add_parser("star", help="n KPOIs equidistant from the start (Fig. 3)")
+    g.add_argument("--n", type=int, default=6)
+    g.add_argument("--radius", type=_positive_float, default=1.0)
+    g = kinds.add_parser("random", help="uniform or clustered random Euclidean points")
+    g.add_argument("--n", type=int, default=10, help="number of KPOIs (default: 10)")
+    g.add_argument("--layout", choices=("uniform", "clustered"), default="uniform")
+    g.add_argument("--clusters", type=int, default=3)
+    g.add_argument("--size", type=_positive_float, default=100.0, help="side of the square (default: 100)")
+    g.add_argument("--start", choices=("random", "center", "corner"), default="random")
+    g = kinds.add_parser("graph", help="random connected sparse graph with virtual nodes")
+    g.add_argument("--n", type=int, default=10, help="number of KPOIs (default: 10)")
+    g.add_argument("--virtual", type=int, default=None, help="number of virtual nodes (default: 2n)")
+    g.add_argument("--size", type=_positive_float, default=100.0)
+    g.add_argument("--detour", type=_float, default=0.5, help="edge weight = length x U[1, 1 + detour]")
+    for g in kinds.choices.values():
+        g.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
+        g.add_argument("--name", help="instance name (default: derived from the parameters)")
+        g.add_argument("--out", metavar="FILE", help="write to FILE instead of stdout")
+    p.set_defaults(run=_generate)
+    return parser
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,224 @@
+"""Reading and writing instances (design.md section 2) and solution files.
+
+- JSON instance files: :func:`read_instance` / :func:`write_instance`, and the dict
+  forms :func:`instance_from_dict` / :func:`instance_to_dict`.
+- TSPLIB ``.tsp`` files (EUC_2D), parsed by ``vrplib``: node 1 is the start, every
+  other node a KPOI; exact Euclidean distances unless ``metric="tsplib"``.
+
+Every problem with a file raises :class:`FileFormatError` (an
+:class:`~parcover.errors.InputError`) with one line naming the file and the problem.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+from parcover.errors import InputError
+from parcover.instance import Instance, InstanceError, MapInfo, Metric
+
+__all__ = [
+    "FileFormatError",
+    "load",
+    "read_instance",
+    "write_instance",
+    "instance_from_dict",
+    "instance_to_dict",
+    "read_tsplib",
+    "read_json",
+]
+
+_REQUIRED = ("start", "kpois")
+
+
+class FileFormatError(InputError):
+    """A file that cannot be read as what it should be."""
+
+
+def read_instance(path: str | os.PathLike[str], *, metric: Metric | None = None) -> Instance:
+    """Read an instance from a ``.json`` or TSPLIB ``.tsp`` file.
+
+    Parameters
+    ----------
+    path
+        The file. ``.tsp`` files are TSPLIB; anything else is read as JSON.
+    metric
+        Override how coordinates become distances: ``"euclidean"`` (exact) or
+        ``"tsplib"`` (TSPLIB's ``nint`` rounding). ``None`` keeps the file's own
+        (``"euclidean"`` for TSPLIB files, as in the min-max mTSP literature).
+    """
+    path = Path(path)
+    if path.suffix.lower() == ".tsp":
+        return read_tsplib(path, metric=metric or "euclidean")
+    data = read_json(path)
+    if not isinstance(data, dict):
+        raise FileFormatError(f"{path}: expected a JSON object at the top level.")
+    try:
+        return instance_from_dict(data, base_dir=path.parent, metric=metric, default_name=path.stem)
+    except InstanceError as exc:
+        raise FileFormatError(f"{path}: {exc}") from None
+
+
+load = read_instance
+
+
+def read_json(path: str | os.PathLike[str]) -> Any:
+    """Parse a JSON file, with one-line errors for missing or malformed files."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise FileFormatError(f"{path}: no such file.") from None
+    except IsADirectoryError:
+        raise FileFormatError(f"{path}: is a directory, not a file.") from None
+    except UnicodeDecodeError:
+        raise FileFormatError(f"{path}: not UTF-8 text.") from None
+    except OSError as exc:
+        raise FileFormatError(f"{path}: cannot be read ({exc.strerror}).") from None
+    try:
+        return json.loads(text, parse_constant=_reject_constant)
+    except json.JSONDecodeError as exc:
+        raise FileFormatError(
+            f"{path}: malformed JSON at line {exc.lineno} column {exc.colno}: {exc.msg}."
+        ) from None
+    except ValueError as exc:
+        raise FileFormatError(f"{path}: {exc}") from None
+
+
+def _reject_constant(name: str) -> Any:
+    raise ValueError(f"{name} is not a valid JSON number.")
+
+
+def instance_from_dict(
+    data: dict[str, Any],
+    *,
+    base_dir: str | os.PathLike[str] | None = None,
+    metric: Metric | None = None,
+    default_name: str = "",
+) -> Instance:
+    """An :class:`Instance` from the JSON object of design.md section 2.
+
+    Unknown keys are ignored (files may carry extensions). ``base_dir`` is where a
+    relative ``map.image`` is resolved from, for drawings.
+    """
+    for key in _REQUIRED:
+        if key not in data:
+            raise InstanceError(f"Missing required key {key!r}.")
+    if not isinstance(data["kpois"], list):
+        raise InstanceError(f"kpois must be a list of string ids, got {data['kpois']!r}.")
+    edges = data.get("edges")
+    if edges is not None and not isinstance(edges, list):
+        raise InstanceError("edges must be a list of [u, v, weight] triples.")
+    name = data.get("name", default_name)
+    if not isinstance(name, str):
+        raise InstanceError(f"name must be a string, got {name!r}.")
+    return Instance(
+        start=data["start"],
+        kpois=tuple(data["kpois"]),
+        coordinates=data.get("coordinates"),
+        edges=tuple(tuple(e) if isinstance(e, list) else e for e in edges) if edges is not None else None,
+        name=name,
+        map=_map_from_dict(data.get("map"), base_dir),
+        metric=metric or data.get("metric", "euclidean"),
+    )
+
+
+def instance_to_dict(instance: Instance) -> dict[str, Any]:
+    """The JSON object of design.md section 2 (keys without a value are left out)."""
+    kpois = ([instance.start] if instance.start_is_kpoi else []) + list(instance.kpois)
+    data: dict[str, Any] = {"name": instance.name, "start": instance.start, "kpois": kpois}
+    if instance.metric != "euclidean":
+        data["metric"] = instance.metric
+    if instance.coordinates is not None:
+        data["coordinates"] = {v: [_plain(x), _plain(y)] for v, (x, y) in instance.coordinates.items()}
+    if instance.edges is not None:
+        data["edges"] = [[u, v, _plain(w)] for u, v, w in instance.edges]
+    if instance.map is not None:
+        m = instance.map
+        scale = m.metres_per_pixel
+        data["map"] = {
+            "image": m.image,
+            "metres_per_pixel": list(scale) if isinstance(scale, tuple) else scale,
+            "origin": list(m.origin),
+        }
+    return data
+
+
+def write_instance(instance: Instance, path: str | os.PathLike[str] | None = None) -> str:
+    """Write the instance as JSON to ``path`` (or just return the text)."""
+    text = json.dumps(instance_to_dict(instance), indent=1) + "\n"
+    if path is not None:
+        Path(path).write_text(text, encoding="utf-8")
+    return text
+
+
+def read_tsplib(path: str | os.PathLike[str], *, metric: Metric = "euclidean") -> Instance:
+    """A TSPLIB EUC_2D ``.tsp`` file: node 1 is the start, nodes 2..N the KPOIs.
+
+    Ids are the node numbers as strings. ``metric="euclidean"`` gives exact
+    distances (the min-max mTSP literature's convention), ``"tsplib"`` TSPLIB's
+    ``nint`` rounding (Reinelt 1991).
+    """
+    import vrplib
+
+    path = Path(path)
+    if not path.is_file():
+        raise FileFormatError(f"{path}: no such file.")
+    try:
+        data = vrplib.read_instance(path, instance_format="vrplib", compute_edge_weights=False)
+    except Exception as exc:  # vrplib raises many kinds on malformed files
+        raise FileFormatError(f"{path}: not a readable TSPLIB file ({type(exc).__name__}: {exc}).") from None
+    kind = str(data.get("edge_weight_type", "")).upper()
+    if kind != "EUC_2D":
+        raise FileFormatError(
+            f"{path}: EDGE_WEIGHT_TYPE {kind or '(missing)'} is not supported; expected EUC_2D."
+        )
+    coords = data.get("node_coord")
+    if coords is None or len(coords) < 2:
+        raise FileFormatError(f"{path}: expected a NODE_COORD_SECTION with at least 2 nodes.")
+    try:
+        return Instance.from_points(
+            coords,
+            start=0,
+            names=[str(i + 1) for i in range(len(coords))],
+            name=str(data.get("name", path.stem)),
+            metric=metric,
+        )
+    except InstanceError as exc:
+        raise FileFormatError(f"{path}: {exc}") from None
+
+
+def _map_from_dict(block: Any, base_dir: str | os.PathLike[str] | None) -> MapInfo | None:
+    if block is None:
+        return None
+    if not isinstance(block, dict) or not isinstance(block.get("image"), str):
+        raise InstanceError("map must be an object with an 'image' path.")
+    scale = block.get("metres_per_pixel", 1.0)
+    if isinstance(scale, list) and len(scale) == 2:
+        scale = tuple(scale)
+    values = scale if isinstance(scale, tuple) else (scale,)
+    if not all(_positive_number(s) for s in values):
+        raise InstanceError(f"map.metres_per_pixel must be a positive number or pair, got {scale!r}.")
+    origin = block.get("origin", [0, 0])
+    if not (isinstance(origin, list) and len(origin) == 2 and all(_finite_number(c) for c in origin)):
+        raise InstanceError(f"map.origin must be [x, y], got {origin!r}.")
+    image = block["image"]
+    if base_dir is not None and not os.path.isabs(image):
+        image = os.path.normpath(os.path.join(base_dir, image))
+    return MapInfo(image=image, metres_per_pixel=scale, origin=(float(origin[0]), float(origin[1])))
+
+
+def _finite_number(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+
+def _positive_number(x: Any) -> bool:
+    return _finite_number(x) and x > 0
+
+
+def _plain(x: float) -> int | float:
+    """Whole numbers as ints, so files stay short and readable."""
+    return int(x) if float(x).is_integer() and abs(x) < 2**53 else float(x)

@@ -1,0 +1,205 @@
+"""One entry point, :func:`solve`, and the registry of methods behind it.
+
+Every method returns a :class:`~parcover.problem.Solution` in KPOI indices;
+:func:`solve` maps it to ids, has the independent verifier recompute it, attaches
+the best proven bound, decides the status honestly and returns a
+:class:`~parcover.result.Result`. A method whose routes fail the verifier is a bug:
+:class:`SolverError` is raised and nothing is printed.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from parcover.bounds import lower_bound, robots_lower_bound
+from parcover.errors import InputError
+from parcover.instance import Instance
+from parcover.problem import Problem, Solution, meets_deadline
+from parcover.result import Result, RoutesKind, Status, gap
+from parcover.verify import InvalidSolution, verify
+
+__all__ = ["solve", "METHODS", "MethodInfo", "SolverError", "register_method"]
+
+_VALUE_RTOL = 1e-9
+
+
+class SolverError(RuntimeError):
+    """A method produced something the verifier rejects: a bug, never user error."""
+
+
+@dataclass(frozen=True)
+class MethodInfo:
+    """A registered method: its callable and a one-line description for ``--help``."""
+
+    name: str
+    function: Callable[..., Solution]
+    description: str
+    options: tuple[str, ...] = ()
+
+
+METHODS: dict[str, MethodInfo] = {}
+
+
+def register_method(
+    name: str, function: Callable[..., Solution], description: str, options: tuple[str, ...] = ()
+) -> None:
+    """Make ``function`` available as ``solve(..., method=name)``.
+
+    ``options`` names the extra keyword arguments it accepts (e.g. ``trace``).
+    """
+    METHODS[name] = MethodInfo(name, function, description, options)
+
+
+def solve(
+    instance: Instance,
+    routes: RoutesKind = "paths",
+    robots: int | None = None,
+    deadline: float | None = None,
+    method: str = "exact",
+    *,
+    time_limit: float | None = None,
+    seed: int = 0,
+    **options: Any,
+) -> Result:
+    """Answer one coverage question on ``instance``.
+
+    Parameters
+    ----------
+    instance
+        The instance.
+    routes
+        ``"paths"`` or ``"tours"``.
+    robots
+        At most this many robots: minimise the makespan.
+    deadline
+        Every route within this cost: minimise the robots. With neither, the fewest
+        robots at the least possible makespan (``c_max``, or ``2 c_max`` for tours).
+    method
+        A name from :data:`METHODS` (``parcover solve --help`` lists them).
+    time_limit
+        Seconds the method may use (``None``: no limit).
+    seed
+        Seed of randomised methods.
+    **options
+        Method-specific options (e.g. ``trace=True`` for ``paper``).
+
+    Returns
+    -------
+    Result
+        Verified routes, their proven bound and an honest status. A deadline below
+        the least possible makespan gives ``infeasible`` without running the method.
+
+    Raises
+    ------
+    InputError
+        On an unknown method or option, or an invalid question.
+    SolverError
+        If the method's routes fail the verifier (a bug).
+    """
+    problem = Problem(routes, robots, deadline)
+    info = _method(method)
+    unknown = sorted(set(options) - set(info.options))
+    if unknown:
+        raise InputError(f"Method {method!r} takes no option {unknown[0]!r}.")
+    if time_limit is not None and not time_limit > 0:
+        raise InputError(f"The time limit must be a positive number of seconds, got {time_limit!r}.")
+    started = time.perf_counter()
+    limit = problem.effective_deadline(instance)
+    if limit is not None and not meets_deadline(problem.least_makespan(instance), limit):
+        solution = Solution(routes=[], status=Status.INFEASIBLE)
+    else:
+        solution = info.function(instance, problem, time_limit=time_limit, seed=seed, **options)
+    return build_result(instance, problem, method, solution, time.perf_counter() - started)
+
+
+def build_result(
+    instance: Instance, problem: Problem, method: str, solution: Solution, seconds: float
+) -> Result:
+    """Verify a method's :class:`Solution` and wrap it as a :class:`Result`."""
+    deadline = None if solution.drops_deadline else problem.effective_deadline(instance)
+    common = dict(
+        instance=instance.name,
+        routes_kind=problem.routes,
+        objective=problem.objective,
+        robots_limit=problem.robots,
+        deadline=deadline,
+        method=method,
+        seconds=seconds,
+        info=solution.info,
+    )
+    if not solution.routes:
+        status = solution.status or Status.UNKNOWN
+        if status not in (Status.INFEASIBLE, Status.UNKNOWN):
+            raise SolverError(f"Method {method!r} claims {status.value} without routes.")
+        return Result(
+            status=status, robots=None, makespan=None, bound=solution.bound, gap=None,
+            routes=[], route_costs=[], **common,
+        )
+
+    id_routes = _id_routes(instance, solution.routes, tours=problem.tours)
+    try:
+        verdict = verify(
+            instance, id_routes, routes_kind=problem.routes, deadline=deadline, robots_limit=problem.robots
+        )
+    except InvalidSolution as exc:
+        raise SolverError(f"Method {method!r} returned invalid routes: {exc}") from None
+    if not verdict.feasible:
+        raise SolverError(f"Method {method!r} broke the question: {'; '.join(verdict.violations())}.")
+
+    value = verdict.makespan if problem.objective == "makespan" else float(verdict.robots)
+    bound = _best_bound(instance, problem, solution, verdict.makespan)
+    if bound > value * (1 + _VALUE_RTOL) + _VALUE_RTOL:
+        raise SolverError(f"Method {method!r} reports bound {bound} above its value {value}.")
+    status = solution.status or (Status.OPTIMAL if value <= bound * (1 + _VALUE_RTOL) + _VALUE_RTOL else Status.FEASIBLE)
+    if status not in (Status.OPTIMAL, Status.FEASIBLE):
+        raise SolverError(f"Method {method!r} claims {status.value} with routes.")
+    return Result(
+        status=status,
+        robots=verdict.robots,
+        makespan=verdict.makespan,
+        bound=bound,
+        gap=0.0 if status is Status.OPTIMAL else gap(value, bound),
+        routes=id_routes,
+        route_costs=verdict.route_costs,
+        **common,
+    )
+
+
+def _best_bound(instance: Instance, problem: Problem, solution: Solution, makespan: float) -> float:
+    """The larger of the method's proven bound and the trivial one."""
+    if solution.drops_deadline:
+        trivial = float(robots_lower_bound(instance, makespan))
+    else:
+        trivial = lower_bound(instance, problem)
+    return trivial if solution.bound is None else max(trivial, solution.bound)
+
+
+def _id_routes(instance: Instance, routes: list[list[int]], *, tours: bool) -> list[list[str]]:
+    ids = instance.ids
+    start = [instance.start]
+    return [start + [ids[i] for i in route] + (start if tours else []) for route in routes]
+
+
+def _method(name: str) -> MethodInfo:
+    _load_methods()
+    if name not in METHODS:
+        raise InputError(f"Unknown method {name!r}; expected one of {', '.join(sorted(METHODS))}.")
+    return METHODS[name]
+
+
+def _load_methods() -> None:
+    """Register the built-in methods (on first use, so importing parcover stays fast)."""
+    if METHODS:
+        return
+    from parcover.algorithms.trivial import one_per_kpoi
+
+    register_method("trivial", one_per_kpoi, "one robot per KPOI (KPOIs dealt out in list order under a robot limit)")
+
+
+def available_methods() -> dict[str, MethodInfo]:
+    """Every registered method by name."""
+    _load_methods()
+    return dict(METHODS)
