@@ -18,7 +18,7 @@ from parcover.errors import InputError
 from parcover.frontier import frontier
 from parcover.instance import Instance, InstanceError, MapInfo, ShortEdgeWarning
 from parcover.io import FileFormatError, load, read_instance, write_instance
-from parcover.problem import Problem, Solution
+from parcover.problem import MethodInfo, Problem, Solution
 from parcover.result import Frontier, FrontierPoint, Result, Status
 from parcover.solve import METHODS, SolverError, available_methods, register_method, solve
 from parcover.verify import InvalidSolution, Verdict, verify
@@ -37,6 +37,7 @@ __all__ = [
     "ShortEdgeWarning",
     "Problem",
     "Solution",
+    "MethodInfo",
     "Result",
     "Status",
     "Frontier",

@@ -226,7 +226,10 @@ class Instance:
         >>> inst.kpois, float(inst.c_max)
         (('1', '2'), 5.0)
         """
-        xy = np.asarray(points, dtype=float)
+        try:
+            xy = np.asarray(points, dtype=float)
+        except (TypeError, ValueError):
+            raise InstanceError("Points must be numbers: an (m, 2) array of x, y.") from None
         if xy.ndim != 2 or xy.shape[1] != 2:
             raise InstanceError(f"Expected points of shape (m, 2), got shape {xy.shape}.")
         ids = [str(i) for i in range(len(xy))] if names is None else [str(v) for v in names]

@@ -149,7 +149,7 @@ def instance_to_dict(instance: Instance) -> dict[str, Any]:
 
 def write_instance(instance: Instance, path: str | os.PathLike[str] | None = None) -> str:
     """Write the instance as JSON to ``path`` (or just return the text)."""
-    text = json.dumps(instance_to_dict(instance), indent=1) + "\n"
+    text = _readable_json(instance_to_dict(instance))
     if path is not None:
         Path(path).write_text(text, encoding="utf-8")
     return text
@@ -189,6 +189,21 @@ def read_tsplib(path: str | os.PathLike[str], *, metric: Metric = "euclidean") -
         )
     except InstanceError as exc:
         raise FileFormatError(f"{path}: {exc}") from None
+
+
+def _readable_json(data: dict[str, Any]) -> str:
+    """JSON with one top-level key per line and one coordinate or edge per line."""
+    parts = []
+    for key, value in data.items():
+        if key == "coordinates":
+            body = ",\n".join(f"    {json.dumps(k)}: {json.dumps(v)}" for k, v in value.items())
+            text = "{\n" + body + "\n  }"
+        elif key == "edges":
+            text = "[\n" + ",\n".join(f"    {json.dumps(e)}" for e in value) + "\n  ]"
+        else:
+            text = json.dumps(value)
+        parts.append(f"  {json.dumps(key)}: {text}")
+    return "{\n" + ",\n".join(parts) + "\n}\n"
 
 
 def _map_from_dict(block: Any, base_dir: str | os.PathLike[str] | None) -> MapInfo | None:

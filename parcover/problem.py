@@ -11,13 +11,22 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from collections.abc import Callable
 from typing import Any, Protocol
 
 from parcover.errors import InputError
 from parcover.instance import Instance
 from parcover.result import Objective, RoutesKind, Status
 
-__all__ = ["Problem", "Solution", "Method", "meets_deadline", "DEADLINE_RTOL", "DEADLINE_ATOL"]
+__all__ = [
+    "Problem",
+    "Solution",
+    "Method",
+    "MethodInfo",
+    "meets_deadline",
+    "DEADLINE_RTOL",
+    "DEADLINE_ATOL",
+]
 
 DEADLINE_RTOL = 1e-9
 DEADLINE_ATOL = 1e-9
@@ -122,3 +131,28 @@ class Method(Protocol):
     def __call__(
         self, instance: Instance, problem: Problem, *, time_limit: float | None, seed: int
     ) -> Solution: ...
+
+
+@dataclass(frozen=True)
+class MethodInfo:
+    """A method as offered by ``parcover solve --method NAME``.
+
+    Algorithm modules list theirs in a module-level ``METHODS`` tuple, which
+    :mod:`parcover.solve` collects.
+
+    Attributes
+    ----------
+    name
+        The ``--method`` name.
+    function
+        A :class:`Method`.
+    description
+        One line for ``parcover solve --help``.
+    options
+        Names of the extra keyword arguments it accepts (e.g. ``"trace"``).
+    """
+
+    name: str
+    function: Callable[..., Solution]
+    description: str
+    options: tuple[str, ...] = ()

@@ -9,15 +9,15 @@ the best proven bound, decides the status honestly and returns a
 
 from __future__ import annotations
 
+import importlib
+import importlib.util
 import time
-from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any
 
 from parcover.bounds import lower_bound, robots_lower_bound
 from parcover.errors import InputError
 from parcover.instance import Instance
-from parcover.problem import Problem, Solution, meets_deadline
+from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.result import Result, RoutesKind, Status, gap
 from parcover.verify import InvalidSolution, verify
 
@@ -30,27 +30,21 @@ class SolverError(RuntimeError):
     """A method produced something the verifier rejects: a bug, never user error."""
 
 
-@dataclass(frozen=True)
-class MethodInfo:
-    """A registered method: its callable and a one-line description for ``--help``."""
-
-    name: str
-    function: Callable[..., Solution]
-    description: str
-    options: tuple[str, ...] = ()
-
-
 METHODS: dict[str, MethodInfo] = {}
 
+# Modules holding methods, each with a module-level ``METHODS`` tuple of MethodInfo.
+_METHOD_MODULES = (
+    "parcover.algorithms.trivial",
+    "parcover.algorithms.paper",
+    "parcover.algorithms.baselines",
+    "parcover.algorithms.local_search",
+    "parcover.exact",
+)
 
-def register_method(
-    name: str, function: Callable[..., Solution], description: str, options: tuple[str, ...] = ()
-) -> None:
-    """Make ``function`` available as ``solve(..., method=name)``.
 
-    ``options`` names the extra keyword arguments it accepts (e.g. ``trace``).
-    """
-    METHODS[name] = MethodInfo(name, function, description, options)
+def register_method(info: MethodInfo) -> None:
+    """Make ``info.function`` available as ``solve(..., method=info.name)``."""
+    METHODS[info.name] = info
 
 
 def solve(
@@ -191,12 +185,14 @@ def _method(name: str) -> MethodInfo:
 
 
 def _load_methods() -> None:
-    """Register the built-in methods (on first use, so importing parcover stays fast)."""
+    """Collect the built-in methods (on first use, so importing parcover stays fast)."""
     if METHODS:
         return
-    from parcover.algorithms.trivial import one_per_kpoi
-
-    register_method("trivial", one_per_kpoi, "one robot per KPOI (KPOIs dealt out in list order under a robot limit)")
+    for name in _METHOD_MODULES:
+        if importlib.util.find_spec(name) is None:
+            continue
+        for info in importlib.import_module(name).METHODS:
+            register_method(info)
 
 
 def available_methods() -> dict[str, MethodInfo]:

@@ -10,9 +10,9 @@ from __future__ import annotations
 import numpy as np
 
 from parcover.instance import Instance
-from parcover.problem import Problem, Solution
+from parcover.problem import MethodInfo, Problem, Solution
 
-__all__ = ["one_per_kpoi"]
+__all__ = ["one_per_kpoi", "METHODS"]
 
 
 def one_per_kpoi(
@@ -24,3 +24,12 @@ def one_per_kpoi(
     robots = n if problem.robots is None else min(problem.robots, n)
     blocks = np.array_split(np.arange(1, n + 1), robots)
     return Solution(routes=[[int(i) for i in block] for block in blocks])
+
+
+METHODS = (
+    MethodInfo(
+        "trivial",
+        one_per_kpoi,
+        "one robot per KPOI (under a robot limit, KPOIs dealt out in list order)",
+    ),
+)
