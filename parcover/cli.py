@@ -41,6 +41,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except InputError as exc:
         print(f"parcover {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # e.g. `parcover solve ... | head`
+        sys.stderr.close()
+        return 0
     except KeyboardInterrupt:
         print(f"parcover {args.command}: interrupted", file=sys.stderr)
         return 130
@@ -154,7 +157,7 @@ def _float(text: str) -> float:
 def _methods_epilog() -> str:
     lines = ["methods:"]
     for name, info in sorted(available_methods().items()):
-        lines.append(f"  {name:<12} {info.description}")
+        lines.append(f"  {name:<18} {info.description}")
     return "\n".join(lines)
 
 

@@ -31,6 +31,7 @@ class SolverError(RuntimeError):
 
 
 METHODS: dict[str, MethodInfo] = {}
+_LOADED = False
 
 # Modules holding methods, each with a module-level ``METHODS`` tuple of MethodInfo.
 _METHOD_MODULES = (
@@ -186,8 +187,10 @@ def _method(name: str) -> MethodInfo:
 
 def _load_methods() -> None:
     """Collect the built-in methods (on first use, so importing parcover stays fast)."""
-    if METHODS:
+    global _LOADED
+    if _LOADED:
         return
+    _LOADED = True
     for name in _METHOD_MODULES:
         if importlib.util.find_spec(name) is None:
             continue

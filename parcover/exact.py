@@ -1,0 +1,117 @@
+"""Bridge from an :class:`~parcover.instance.Instance` to the exact models in :mod:`milp`.
+
+The models work on the distance matrix alone (start at index 0); this module hands
+them the matrix, a warm start, and maps their answer back to a
+:class:`~parcover.problem.Solution`, which :func:`parcover.solve` then verifies
+independently. Three methods:
+
+- ``exact``: the compact arc-flow model solved by HiGHS (:mod:`milp.arcflow`);
+- ``setpart``: Held-Karp route enumeration and set partitioning (:mod:`milp.setpart`),
+  an independent second exact method for up to 16 KPOIs;
+- ``cvxpy``: the compact model written in cvxpy for reading (:mod:`milp.cvx`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from parcover.instance import Instance
+from parcover.problem import MethodInfo, Problem, Solution
+from parcover.result import Status
+
+__all__ = ["exact", "setpart", "cvxpy_model", "METHODS", "warm_start_routes"]
+
+_STATUS = {"optimal": Status.OPTIMAL, "infeasible": Status.INFEASIBLE, "unknown": Status.UNKNOWN}
+
+# Seconds the warm-start heuristic may take, as a share of the exact method's limit.
+_WARM_SHARE = 0.1
+_WARM_DEFAULT_SECONDS = 2.0
+
+
+def exact(
+    instance: Instance,
+    problem: Problem,
+    *,
+    time_limit: float | None = None,
+    seed: int = 0,
+    warm_start: list[list[int]] | None = None,
+    export_model: str | None = None,
+) -> Solution:
+    """Proven optimum of the compact arc-flow model (HiGHS), within ``time_limit``.
+
+    ``warm_start`` (routes of KPOI indices) seeds the solver; without it the ``best``
+    heuristic provides one. ``export_model`` writes the model to an ``.mps`` or ``.lp``
+    file that any MILP solver can read.
+    """
+    from milp import arcflow
+
+    start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
+    if export_model:
+        arcflow.export_model(
+            instance.distances, export_model, tours=problem.tours,
+            robots=problem.robots, deadline=problem.effective_deadline(instance), warm_start=start,
+        )
+    return _run(arcflow.min_makespan, arcflow.min_robots, instance, problem, time_limit, warm_start=start)
+
+
+def setpart(
+    instance: Instance, problem: Problem, *, time_limit: float | None = None, seed: int = 0
+) -> Solution:
+    """Proven optimum by set partitioning over every subset's cheapest route (n <= 16)."""
+    from milp import setpart as model
+
+    return _run(model.min_makespan, model.min_robots, instance, problem, time_limit)
+
+
+def cvxpy_model(
+    instance: Instance, problem: Problem, *, time_limit: float | None = None, seed: int = 0
+) -> Solution:
+    """Proven optimum of the compact model as written in cvxpy (for reading)."""
+    from milp import cvx
+
+    return _run(cvx.min_makespan, cvx.min_robots, instance, problem, time_limit)
+
+
+def warm_start_routes(
+    instance: Instance, problem: Problem, time_limit: float | None, seed: int
+) -> list[list[int]] | None:
+    """Routes from the ``best`` heuristic when it is available, else ``None``."""
+    from parcover.solve import available_methods
+
+    methods = available_methods()
+    if "best" not in methods:
+        return None
+    budget = _WARM_DEFAULT_SECONDS if time_limit is None else _WARM_SHARE * time_limit
+    solution = methods["best"].function(instance, problem, time_limit=budget, seed=seed)
+    return solution.routes or None
+
+
+def _run(
+    min_makespan: Callable[..., Any],
+    min_robots: Callable[..., Any],
+    instance: Instance,
+    problem: Problem,
+    time_limit: float | None,
+    **kwargs: Any,
+) -> Solution:
+    d = instance.distances
+    if problem.objective == "makespan":
+        answer = min_makespan(d, problem.robots, tours=problem.tours, time_limit=time_limit, **kwargs)
+    else:
+        deadline = problem.effective_deadline(instance)
+        answer = min_robots(d, deadline, tours=problem.tours, time_limit=time_limit, **kwargs)
+    return Solution(
+        routes=[list(r) for r in answer.routes],
+        bound=answer.bound,
+        # "feasible" maps to None: solve() decides, and may still prove it with its own bounds
+        status=_STATUS.get(answer.status),
+        info={"nodes": answer.nodes, "solver_seconds": answer.seconds, "message": answer.message},
+    )
+
+
+METHODS = (
+    MethodInfo("exact", exact, "proven optimum: compact arc-flow MILP in HiGHS (default)", ("warm_start", "export_model")),
+    MethodInfo("setpart", setpart, "proven optimum: Held-Karp routes + set partitioning (n <= 16)"),
+    MethodInfo("cvxpy", cvxpy_model, "proven optimum: the compact model written in cvxpy (slow, for reading)"),
+)
