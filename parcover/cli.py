@@ -15,6 +15,7 @@ from typing import NoReturn
 from parcover import generate as gen
 from parcover.errors import InputError
 from parcover.frontier import frontier
+from parcover.result import Result
 from parcover.io import FileFormatError, read_instance, read_json, write_instance
 from parcover.solve import available_methods, solve
 from parcover.verify import InvalidSolution, verify
@@ -54,7 +55,9 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _solve(args: argparse.Namespace) -> int:
     instance = read_instance(args.instance, metric=args.distance)
-    options = {"trace": True} if args.trace else {}
+    options: dict[str, object] = {"trace": True} if args.trace else {}
+    if args.export_model:
+        options["export_model"] = args.export_model
     result = solve(
         instance,
         routes=args.routes,
@@ -99,9 +102,17 @@ def _verify(args: argparse.Namespace) -> int:
 
 def _frontier(args: argparse.Namespace) -> int:
     instance = read_instance(args.instance, metric=args.distance)
-    result = frontier(instance, args.routes, args.method, time_limit=args.time_limit, seed=args.seed)
+    progress = _print_frontier_point if sys.stderr.isatty() else None
+    result = frontier(
+        instance, args.routes, args.method, time_limit=args.time_limit, seed=args.seed, progress=progress
+    )
     _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
     return 0
+
+
+def _print_frontier_point(k: int, result: Result) -> None:
+    makespan = "-" if result.makespan is None else f"{result.makespan:.6g}"
+    print(f"  k = {k}: makespan {makespan} ({result.status.value}, {result.seconds:.2f} s)", file=sys.stderr)
 
 
 def _generate(args: argparse.Namespace) -> int:
@@ -189,6 +200,8 @@ def _build_parser() -> argparse.ArgumentParser:
     limits.add_argument("--time-limit", type=_positive_float, metavar="SECONDS", help="time limit of the method")
     limits.add_argument("--seed", type=int, default=0, help="seed of randomised methods (default: 0)")
     p.add_argument("--trace", action="store_true", help="print every step of the paper's algorithms")
+    p.add_argument("--export-model", metavar="FILE.mps",
+                   help="write the compact MILP (method exact) to an .mps or .lp file any MILP solver reads")
     p.add_argument("--json", action="store_true", help="print the result as one JSON object")
     p.add_argument("--out", metavar="FILE", help="also write the result JSON to FILE")
     p.set_defaults(run=_solve)

@@ -16,6 +16,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from parcover.errors import InputError
 from parcover.instance import Instance
 from parcover.problem import MethodInfo, Problem, Solution
 from parcover.result import Status
@@ -48,11 +49,26 @@ def exact(
 
     start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
     if export_model:
-        arcflow.export_model(
-            instance.distances, export_model, tours=problem.tours,
-            robots=problem.robots, deadline=problem.effective_deadline(instance), warm_start=start,
-        )
+        _export(instance, problem, export_model)
     return _run(arcflow.min_makespan, arcflow.min_robots, instance, problem, time_limit, warm_start=start)
+
+
+def _export(instance: Instance, problem: Problem, path: str) -> None:
+    """Write the compact model of this question to ``path`` (.mps or .lp)."""
+    from milp import arcflow
+
+    if not path.endswith((".mps", ".lp")):
+        raise InputError(f"Cannot export the model to {path}: the file must end in .mps or .lp.")
+    model = arcflow.build_model(
+        instance.distances,
+        tours=problem.tours,
+        k=problem.robots,
+        deadline=problem.effective_deadline(instance) if problem.robots is None else None,
+    )
+    try:
+        model.write(path)
+    except OSError as exc:
+        raise InputError(f"Cannot write {path}: {exc.strerror}.") from None
 
 
 def setpart(

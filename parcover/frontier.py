@@ -8,11 +8,12 @@ help; with ``n`` robots the one-KPOI-each routes always reach it.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 
 from parcover.instance import Instance
 from parcover.problem import Problem, meets_deadline
-from parcover.result import Frontier, FrontierPoint, RoutesKind
-from parcover.solve import solve
+from parcover.result import Frontier, FrontierPoint, Result, RoutesKind
+from parcover.solve import available_methods, solve
 
 __all__ = ["frontier"]
 
@@ -24,18 +25,33 @@ def frontier(
     *,
     time_limit: float | None = None,
     seed: int = 0,
+    progress: Callable[[int, Result], None] | None = None,
 ) -> Frontier:
     """Solve the makespan question for k = 1, 2, ... robots with ``method``.
 
     ``time_limit`` applies to each k. A point is ``optimal`` only where the method
-    proved it.
+    proved it. Methods that take a ``warm_start`` (``exact``) start each k from the
+    routes found for k - 1. ``progress(k, result)`` is called after each k.
     """
     least = Problem(routes).least_makespan(instance)
+    info = available_methods().get(method)
+    warm = info is not None and "warm_start" in info.options
     started = time.perf_counter()
-    points = []
+    points: list[FrontierPoint] = []
     for k in range(1, instance.n + 1):
-        result = solve(instance, routes, robots=k, method=method, time_limit=time_limit, seed=seed)
+        options = {}
+        if warm and points and points[-1].result is not None and points[-1].result.routes:
+            # k - 1 robots' routes are valid with k robots: a warm start and an upper bound
+            options["warm_start"] = _index_routes(instance, points[-1].result.routes)
+        result = solve(instance, routes, robots=k, method=method, time_limit=time_limit, seed=seed, **options)
+        if progress is not None:
+            progress(k, result)
         points.append(FrontierPoint(k, result.makespan, result.status, result.bound, result))
         if result.makespan is not None and meets_deadline(result.makespan, least):
             break
     return Frontier(instance.name, routes, method, points, time.perf_counter() - started)
+
+
+def _index_routes(instance: Instance, routes: list[list[str]]) -> list[list[int]]:
+    """KPOI indices of id routes (the start dropped)."""
+    return [[instance.index(v) for v in route if v != instance.start] for route in routes]

@@ -1,0 +1,34 @@
+"""Exact MILP methods for the parallel coverage problem (paths and tours from one start).
+
+Input everywhere is a metric distance matrix ``D`` of shape ``(n+1, n+1)``, index 0 the
+start and ``1..n`` the KPOIs. Methods:
+
+- :mod:`milp.arcflow`: compact arc-flow MILP with distance flow (HiGHS), arc pruning,
+  warm start; the default.
+- :mod:`milp.setpart`: Held-Karp over all subsets plus set partitioning (``n <= 16``),
+  an independent check.
+- :mod:`milp.cvx`: the arc-flow model written in cvxpy, for reading.
+- :func:`frontier`: optimal makespan for ``k = 1, 2, ...`` robots.
+
+This package imports only numpy, scipy, highspy and cvxpy.
+"""
+
+from milp import arcflow, cvx, setpart
+from milp.arcflow import ArcModel, build_model, min_makespan, min_robots
+from milp.frontier import frontier
+from milp.highs import write_model
+from milp.result import MilpResult, relative_gap
+
+__all__ = [
+    "ArcModel",
+    "MilpResult",
+    "arcflow",
+    "build_model",
+    "cvx",
+    "frontier",
+    "min_makespan",
+    "min_robots",
+    "relative_gap",
+    "setpart",
+    "write_model",
+]

@@ -1,0 +1,478 @@
+r"""Compact arc-flow MILP (two-index arcs plus distance flow), solved with HiGHS.
+
+The distance-flow idea follows Kara (2011), "Arc based integer programming formulations
+for the distance constrained vehicle routing problem" (DCVRP): a continuous variable on
+each arc carries the distance travelled so far, which both bounds route lengths and
+eliminates subtours.
+
+Notation
+--------
+Node 0 is the start, :math:`N = \{1..m\}` the KPOIs *after merging* KPOIs at distance 0
+(see :mod:`milp.merge`), :math:`E` an end node: the sink of open paths with
+:math:`d_{iE} = 0`, or the return to the start with :math:`d_{iE} = d_{i0}` for tours.
+Arcs :math:`A`: :math:`(0, j)` for :math:`j \in N`; :math:`(i, j)` for
+:math:`i \ne j \in N`; :math:`(i, E)` for :math:`i \in N`. :math:`r_j = 0` for paths,
+:math:`r_j = d_{j0}` for tours (:math:`r_E = 0`): the least distance still to go after
+:math:`j`. :math:`U` is the deadline (``min_robots``) or the makespan of a known valid
+solution (``min_makespan``). :math:`L` is the larger of :math:`c_{max}` (paths) /
+:math:`2 c_{max}` (tours) and a spanning-tree bound (:func:`makespan_lower_bound`).
+
+Pruning: arc :math:`(i, j)` is dropped when :math:`d_{0i} + d_{ij} + r_j > U`
+(with :math:`d_{00} = 0`): no route within :math:`U` can use it.
+
+Variables: :math:`x_a \in \{0, 1\}` (arc used), :math:`z_a \ge 0` (distance travelled on
+arrival at the head of :math:`a`), :math:`T` (makespan, ``min_makespan`` only).
+
+.. math::
+
+    (1)&\quad \sum_{a \in \delta^+(0)} x_a \le k
+        && \text{(min\_makespan; min\_robots minimises this sum)} \\
+    (2)&\quad \sum_{a \in \delta^-(j)} x_a = 1, \quad \sum_{a \in \delta^+(j)} x_a = 1
+        && j \in N \\
+    (3)&\quad \sum_{a \in \delta^+(j)} z_a - \sum_{a \in \delta^-(j)} z_a
+        = \sum_{a \in \delta^+(j)} d_a x_a && j \in N \\
+    (4)&\quad z_{0j} = d_{0j} x_{0j} && j \in N \\
+    (5)&\quad (d_{0i} + d_{ij}) x_{ij} \le z_{ij} \le (U - r_j) x_{ij}
+        && (i, j) \in A,\ i \ne 0 \\
+    (6)&\quad z_{iE} \le T && i \in N \text{ (min\_makespan)} \\
+    (7)&\quad \sum_{a \in A} d_a x_a \le k T \ \text{(min\_makespan)}, \quad
+        \sum_{a \in A} d_a x_a \le U \sum_{a \in \delta^+(0)} x_a \ \text{(min\_robots)} \\
+    (8)&\quad L \le T \le U && \text{(min\_makespan)}
+
+Objective: minimise :math:`T` (``min_makespan``) or :math:`\sum_{a\in\delta^+(0)} x_a`
+(``min_robots``, where the deadline enters through (5) with :math:`U` = deadline).
+
+Why it is exact. (2) makes the used arcs a set of node-disjoint paths from 0 to E plus
+possibly cycles inside N. Summing (3) around a cycle inside N gives
+:math:`0 = \sum d_a` over its arcs, impossible because after merging every distance
+between distinct KPOIs is positive: so only routes 0 -> ... -> E remain. Along a route,
+(4) and (3) make :math:`z` the cumulative distance, so :math:`z_{iE}` is the route cost,
+bounded by (5) and (6). (5)'s lower bound holds because the distance on arrival at j
+via i is at least :math:`d_{0i} + d_{ij}` (triangle inequality). (7) is valid because the
+total length of all routes is at most (number of routes) x (largest route). (8): every
+KPOI is at distance at most the makespan from the start (twice for tours), and the
+routes together contain a spanning tree (see :func:`makespan_lower_bound`).
+Pruning with :math:`U` = a known makespan keeps every solution at least as good.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from math import ceil
+from pathlib import Path
+
+import highspy
+import numpy as np
+from scipy import sparse
+from scipy.sparse.csgraph import minimum_spanning_tree
+
+from milp.highs import BOUND_SLACK, LpSolve, make_lp, solve_lp, write_model
+from milp.merge import Merged, merge_zero_distances
+from milp.result import MilpResult, relative_gap
+from milp.routes import (
+    check_distance_matrix,
+    check_routes,
+    least_makespan,
+    makespan,
+    route_cost,
+    within,
+)
+from milp.warmstart import good_makespan_routes, nearest_neighbour_order, split_min_robots
+
+
+@dataclass(frozen=True)
+class ArcModel:
+    """The arc-flow MILP over a merged instance and how to read its columns.
+
+    Attributes
+    ----------
+    lp : highspy.HighsLp
+        The model; columns are ``x`` (one per arc), then ``z`` (one per arc), then ``T``
+        for ``min_makespan``.
+    merged : Merged
+        The merged instance (model node ``c`` stands for ``merged.groups[c - 1]``).
+    tail, head : numpy.ndarray
+        Arc end points; ``head == m + 1`` is the end node E.
+    tours : bool
+        Route kind.
+    """
+
+    lp: highspy.HighsLp
+    merged: Merged
+    tail: np.ndarray
+    head: np.ndarray
+    tours: bool
+
+    @property
+    def num_arcs(self) -> int:
+        """Number of arcs kept after pruning."""
+        return len(self.tail)
+
+    def write(self, path: str | Path) -> Path:
+        """Export the model to ``.mps`` or ``.lp`` (see :func:`milp.highs.write_model`)."""
+        return write_model(self.lp, path)
+
+    def start_vector(self, routes: list[list[int]]) -> np.ndarray:
+        """Column values (x, z, and T if present) of model-space ``routes``."""
+        D, m = self.merged.D, self.merged.size
+        index = np.full((m + 1, m + 2), -1)
+        index[self.tail, self.head] = np.arange(self.num_arcs)
+        x = np.zeros(self.num_arcs)
+        z = np.zeros(self.num_arcs)
+        for route in routes:
+            stops = [0, *route]
+            arrival = np.cumsum(D[stops[:-1], stops[1:]])
+            arcs = index[stops[:-1], stops[1:]]
+            end = index[route[-1], m + 1]
+            if np.any(arcs < 0) or end < 0:
+                raise ValueError("warm start uses an arc pruned from the model")
+            x[arcs], z[arcs] = 1.0, arrival
+            x[end], z[end] = 1.0, arrival[-1] + (D[route[-1], 0] if self.tours else 0.0)
+        extra = self.lp.num_col_ - 2 * self.num_arcs
+        T = [makespan(D, routes, tours=self.tours)] * extra
+        return np.concatenate([x, z, T])
+
+    def routes_from(self, values: np.ndarray) -> list[list[int]]:
+        """Model-space routes read from the arc variables of a solution."""
+        m = self.merged.size
+        used = values[: self.num_arcs] > 0.5
+        tails, heads = self.tail[used], self.head[used]
+        successor = dict(zip(tails[tails > 0].tolist(), heads[tails > 0].tolist()))
+        routes = []
+        for first in heads[tails == 0].tolist():
+            route = [first]
+            while successor[route[-1]] != m + 1:
+                route.append(successor[route[-1]])
+            routes.append(route)
+        if sorted(i for r in routes for i in r) != list(range(1, m + 1)):
+            raise AssertionError("arc solution is not a partition into routes")
+        return routes
+
+
+def build_model(
+    D: np.ndarray,
+    *,
+    tours: bool,
+    k: int | None = None,
+    deadline: float | None = None,
+    upper: float | None = None,
+) -> ArcModel:
+    """Build the arc-flow model for ``min_makespan`` (give ``k``) or ``min_robots``
+    (give ``deadline``).
+
+    Parameters
+    ----------
+    D : numpy.ndarray
+        ``(n+1, n+1)`` metric distance matrix, index 0 the start.
+    tours : bool
+        Tours (return to 0) or open paths.
+    k : int, optional
+        Robots available: builds the ``min_makespan`` model.
+    deadline : float, optional
+        Builds the ``min_robots`` model with this deadline as ``U``.
+    upper : float, optional
+        ``min_makespan`` only: a known achievable makespan, used as ``U`` for pruning and
+        in (5), (8). Default: the makespan of :func:`milp.warmstart.good_makespan_routes`.
+
+    Returns
+    -------
+    ArcModel
+    """
+    D = check_distance_matrix(D)
+    if (k is None) == (deadline is None):
+        raise ValueError("give exactly one of k (min_makespan) or deadline (min_robots)")
+    merged = merge_zero_distances(D)
+    if merged.size == 0:
+        raise ValueError("every KPOI is at the start: nothing to model")
+    if k is not None:
+        if upper is None:
+            upper = makespan(merged.D, good_makespan_routes(merged.D, k, tours=tours), tours=tours)
+        return _assemble(merged, tours=tours, U=upper, k=k)
+    return _assemble(merged, tours=tours, U=float(deadline), k=None)
+
+
+def _arcs(D: np.ndarray, *, tours: bool, U: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Tails, heads and lengths of the arcs that can lie on a route within ``U``."""
+    m = len(D) - 1
+    E = m + 1
+    to_go = D[:, 0] if tours else np.zeros(m + 1)  # r_j
+    Dext = np.zeros((m + 1, m + 2))
+    Dext[:, : m + 1] = D
+    Dext[:, E] = D[:, 0] if tours else 0.0
+    rest = np.concatenate([to_go, [0.0]])  # r_E = 0
+    tail, head = np.meshgrid(np.arange(m + 1), np.arange(m + 2), indexing="ij")
+    allowed = (tail != head) & (head != 0) & ~((tail == 0) & (head == E))
+    reach = D[0][:, None] + Dext + rest[None, :]  # d_0i + d_ij + r_j, d_00 = 0
+    keep = allowed & within(reach, U)
+    return tail[keep], head[keep], Dext[keep]
+
+
+def _assemble(merged: Merged, *, tours: bool, U: float, k: int | None) -> ArcModel:
+    """Constraint matrix, bounds and objective of the model, numbered as in the docstring."""
+    D, m = merged.D, merged.size
+    tail, head, length = _arcs(D, tours=tours, U=U)
+    A = len(tail)
+    E = m + 1
+    arc = np.arange(A)
+    x, z = arc, A + arc
+    T = 2 * A
+    num_col = 2 * A + (1 if k is not None else 0)
+    rows, cols, vals, lower, upper, names = [], [], [], [], [], []
+
+    def add(r, c, v, lo, hi, name):
+        """Append a block of rows given as coordinate triplets (row ids are local)."""
+        offset = len(names)
+        names.extend(f"{name}_{i}" for i in range(len(lo)))
+        rows.append(np.asarray(r) + offset)
+        cols.append(np.asarray(c))
+        vals.append(np.asarray(v, dtype=np.float64))
+        lower.append(np.asarray(lo, dtype=np.float64))
+        upper.append(np.asarray(hi, dtype=np.float64))
+
+    from_start = tail == 0
+    inner = ~from_start
+    s = from_start.sum()
+    if k is not None:  # (1)
+        add(np.zeros(s), x[from_start], np.ones(s), [-np.inf], [k], "c1_robots")
+    # (2) in-degree and out-degree of each KPOI j (rows j-1 and m+j-1)
+    into = head <= m
+    add(head[into] - 1, x[into], np.ones(into.sum()), np.ones(m), np.ones(m), "c2_in")
+    add(tail[inner] - 1, x[inner], np.ones(inner.sum()), np.ones(m), np.ones(m), "c2_out")
+    # (3) distance flow: out z - in z - out d x = 0 at each KPOI
+    add(
+        np.concatenate([tail[inner] - 1, head[into] - 1, tail[inner] - 1]),
+        np.concatenate([z[inner], z[into], x[inner]]),
+        np.concatenate([np.ones(inner.sum()), -np.ones(into.sum()), -length[inner]]),
+        np.zeros(m),
+        np.zeros(m),
+        "c3_flow",
+    )
+    # (4) z_0j = d_0j x_0j
+    add(np.tile(np.arange(s), 2), np.concatenate([z[from_start], x[from_start]]),
+        np.concatenate([np.ones(s), -length[from_start]]), np.zeros(s), np.zeros(s), "c4_first")
+    # (5) (d_0i + d_ij) x <= z <= (U - r_j) x on arcs out of KPOIs
+    q = inner.sum()
+    reach = D[0, tail[inner]] + length[inner]
+    to_go = np.where(head[inner] == E, 0.0, D[head[inner] % E, 0] if tours else 0.0)
+    add(np.tile(np.arange(q), 2), np.concatenate([z[inner], x[inner]]),
+        np.concatenate([np.ones(q), -reach]), np.zeros(q), np.full(q, np.inf), "c5_low")
+    add(np.tile(np.arange(q), 2), np.concatenate([z[inner], x[inner]]),
+        np.concatenate([np.ones(q), -(U - to_go)]), np.full(q, -np.inf), np.zeros(q), "c5_up")
+    if k is not None:
+        ends = head == E  # (6) z_iE <= T
+        e = ends.sum()
+        add(np.tile(np.arange(e), 2), np.concatenate([z[ends], np.full(e, T)]),
+            np.concatenate([np.ones(e), -np.ones(e)]), np.full(e, -np.inf), np.zeros(e), "c6_end")
+        # (7) sum d x <= k T
+        add(np.zeros(A + 1), np.append(x, T), np.append(length, -k), [-np.inf], [0.0], "c7_total")
+    else:  # (7) sum d x <= U sum_{out of 0} x
+        add(np.zeros(A), x, length - U * from_start, [-np.inf], [0.0], "c7_total")
+
+    matrix = sparse.coo_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+        shape=(len(np.concatenate(lower)), num_col),
+    )
+    z_upper = U - np.where(head == E, 0.0, D[head % E, 0] if tours else 0.0)
+    col_lower = np.zeros(num_col)
+    col_upper = np.concatenate([np.ones(A), np.maximum(z_upper, 0.0)])
+    cost = np.zeros(num_col)
+    if k is not None:  # (8) L <= T <= U
+        L = makespan_lower_bound(D, k, tours=tours)
+        col_lower[T], cost[T] = L, 1.0
+        col_upper = np.append(col_upper, max(U, L))
+    else:
+        cost[x[from_start]] = 1.0
+    integer = np.arange(num_col) < A
+    lp = make_lp(cost, (col_lower, col_upper), matrix,
+                 (np.concatenate(lower), np.concatenate(upper)), integer)
+    head_name = [str(j) for j in range(m + 1)] + ["E"]
+    arc_names = [f"{i}_{head_name[j]}" for i, j in zip(tail.tolist(), head.tolist())]
+    lp.col_names_ = ([f"x_{a}" for a in arc_names] + [f"z_{a}" for a in arc_names]
+                     + ["T"] * (k is not None))
+    lp.row_names_ = names
+    return ArcModel(lp, merged, tail, head, tours)
+
+
+def makespan_lower_bound(D: np.ndarray, k: int, *, tours: bool) -> float:
+    """``L`` of (8): the larger of ``c_max`` (``2 c_max``) and a spanning-tree bound.
+
+    The routes of a solution all contain the start, so for paths their ``n`` arcs form
+    a spanning tree of ``{0..n}``: total length >= MST, and with ``q <= k`` routes the
+    makespan is >= MST / q >= MST / k. For tours, dropping each tour's closing arc leaves
+    such a tree, and the ``q`` closing arcs return from ``q`` distinct KPOIs: makespan
+    >= min over q <= k of (MST + sum of the q smallest ``d_i0``) / q.
+
+    Parameters
+    ----------
+    D : numpy.ndarray
+        Merged distance matrix (no zero off-diagonal entry, so scipy's MST sees every edge).
+    k : int
+        Robots available.
+    tours : bool
+        Route kind.
+
+    Returns
+    -------
+    float
+    """
+    tree = float(minimum_spanning_tree(D).sum())
+    q = np.arange(1, min(k, len(D) - 1) + 1)
+    closing = np.cumsum(np.sort(D[0, 1:]))[: len(q)] if tours else np.zeros(len(q))
+    return max(least_makespan(D, tours=tours), float(np.min((tree + closing) / q)))
+
+
+def min_makespan(
+    D: np.ndarray,
+    k: int,
+    *,
+    tours: bool,
+    time_limit: float | None = None,
+    warm_start: list[list[int]] | None = None,
+) -> MilpResult:
+    """Least makespan with at most ``k`` robots.
+
+    Parameters
+    ----------
+    D : numpy.ndarray
+        ``(n+1, n+1)`` metric distance matrix, index 0 the start.
+    k : int
+        Robots available (at least 1; fewer may be used).
+    tours : bool
+        Tours (return to 0) or open paths.
+    time_limit : float, optional
+        Seconds for the whole call (heuristic, model, HiGHS); None for no limit. HiGHS
+        gets at least 1 ms, so a tiny limit can be exceeded slightly.
+    warm_start : list of list of int, optional
+        A valid solution with at most ``k`` routes; its makespan bounds the model.
+
+    Returns
+    -------
+    MilpResult
+        ``objective`` is the makespan.
+    """
+    began = time.perf_counter()
+    D = check_distance_matrix(D)
+    if k < 1:
+        raise ValueError("k must be at least 1")
+    merged = merge_zero_distances(D)
+    if warm_start is not None and len(check_routes(warm_start, len(D) - 1)) > k:
+        raise ValueError(f"warm start has more than k={k} routes")
+    if merged.size == 0:
+        return _proven(D, merged.expand([]), tours, 0.0, began, "every KPOI is at the start")
+    start = _best_makespan_start(merged, k, tours, warm_start)
+    upper = makespan(merged.D, start, tours=tours)
+    L = makespan_lower_bound(merged.D, k, tours=tours)
+    if upper <= L * (1 + BOUND_SLACK * 1e-3):
+        return _proven(D, merged.expand(start), tours, L, began, "warm start meets the lower bound")
+    model = _assemble(merged, tours=tours, U=upper, k=k)
+    solve = solve_lp(model.lp, time_limit=_remaining(time_limit, began),
+                     start=model.start_vector(start))
+    return _makespan_result(D, model, solve, start, L, began)
+
+
+def _best_makespan_start(
+    merged: Merged, k: int, tours: bool, warm_start: list[list[int]] | None
+) -> list[list[int]]:
+    """The better of the given warm start and the heuristic solution (model space)."""
+    candidates = [good_makespan_routes(merged.D, k, tours=tours)]
+    if warm_start is not None:
+        candidates.append(merged.reduce(warm_start))
+    return min(candidates, key=lambda routes: makespan(merged.D, routes, tours=tours))
+
+
+def _makespan_result(
+    D: np.ndarray, model: ArcModel, solve: LpSolve, start: list[list[int]], L: float, began: float
+) -> MilpResult:
+    """MilpResult of a makespan solve (falls back on the warm start when nothing better)."""
+    if solve.status == "infeasible":
+        raise AssertionError("HiGHS reports infeasible although the warm start is valid")
+    routes = model.routes_from(solve.values) if solve.values is not None else start
+    routes = min([routes, start], key=lambda r: makespan(model.merged.D, r, tours=model.tours))
+    routes = model.merged.expand(routes)
+    value = makespan(D, routes, tours=model.tours)
+    if solve.status == "optimal":
+        return _proven(D, routes, model.tours, value, began, solve.message, solve.nodes)
+    bound = min(max(L, solve.bound if solve.bound is not None else L), value)
+    return MilpResult("feasible", routes, value, bound, relative_gap(value, bound), solve.nodes,
+                      time.perf_counter() - began, solve.message)
+
+
+def min_robots(
+    D: np.ndarray,
+    deadline: float,
+    *,
+    tours: bool,
+    time_limit: float | None = None,
+    warm_start: list[list[int]] | None = None,
+) -> MilpResult:
+    """Fewest robots whose routes all meet ``deadline``.
+
+    Parameters
+    ----------
+    D : numpy.ndarray
+        ``(n+1, n+1)`` metric distance matrix, index 0 the start.
+    deadline : float
+        Largest allowed route cost ``U`` (tolerance ``U (1 + 1e-9) + 1e-9``).
+    tours : bool
+        Tours (return to 0) or open paths.
+    time_limit : float, optional
+        Seconds for the whole call (heuristic, model, HiGHS); None for no limit. HiGHS
+        gets at least 1 ms, so a tiny limit can be exceeded slightly.
+    warm_start : list of list of int, optional
+        A valid solution whose routes all meet the deadline.
+
+    Returns
+    -------
+    MilpResult
+        ``objective`` is the number of routes; ``"infeasible"`` (without calling a
+        solver) when the deadline is below ``c_max`` (paths) / ``2 c_max`` (tours).
+    """
+    began = time.perf_counter()
+    D = check_distance_matrix(D)
+    L = least_makespan(D, tours=tours)
+    if not within(L, deadline):
+        return MilpResult("infeasible", seconds=time.perf_counter() - began,
+                          message=f"deadline {deadline} is below the least makespan {L}")
+    merged = merge_zero_distances(D)
+    if warm_start is not None:
+        given = check_routes(warm_start, len(D) - 1)
+        if not all(within(route_cost(D, r, tours=tours), deadline) for r in given):
+            raise ValueError("a warm-start route exceeds the deadline")
+    if merged.size == 0:
+        return _proven(D, merged.expand([]), tours, 1, began, "every KPOI is at the start")
+    order = nearest_neighbour_order(merged.D)
+    candidates = [split_min_robots(merged.D, order, deadline, tours=tours)]
+    if warm_start is not None:
+        candidates.append(merged.reduce(warm_start))
+    start = min(candidates, key=len)
+    if len(start) == 1:
+        return _proven(D, merged.expand(start), tours, 1, began, "one route suffices")
+    model = _assemble(merged, tours=tours, U=float(deadline), k=None)
+    solve = solve_lp(model.lp, time_limit=_remaining(time_limit, began),
+                     start=model.start_vector(start))
+    if solve.status == "infeasible":
+        raise AssertionError("HiGHS reports infeasible although the warm start is valid")
+    routes = model.routes_from(solve.values) if solve.values is not None else start
+    routes = model.merged.expand(min([routes, start], key=len))
+    if solve.status == "optimal":
+        return _proven(D, routes, tours, len(routes), began, solve.message, solve.nodes)
+    bound = min(max(1, ceil((solve.bound or 1.0) - BOUND_SLACK)), len(routes))
+    return MilpResult("feasible", routes, float(len(routes)), float(bound),
+                      relative_gap(len(routes), bound), solve.nodes, time.perf_counter() - began,
+                      solve.message)
+
+
+def _remaining(time_limit: float | None, began: float) -> float | None:
+    """What is left of ``time_limit`` after the set-up since ``began`` (None: no limit)."""
+    return None if time_limit is None else time_limit - (time.perf_counter() - began)
+
+
+def _proven(
+    D: np.ndarray, routes: list[list[int]], tours: bool, value: float, began: float,
+    message: str, nodes: int = 0,
+) -> MilpResult:
+    """An ``optimal`` result (bound = objective, gap 0) after checking the routes."""
+    check_routes(routes, len(D) - 1)
+    return MilpResult("optimal", routes, float(value), float(value), 0.0, nodes,
+                      time.perf_counter() - began, message)

@@ -1,0 +1,238 @@
+r"""Set partitioning over every subset's cheapest route (Held-Karp), solved with HiGHS.
+
+An exact method independent of :mod:`milp.arcflow` (it shares only the HiGHS plumbing
+and input checks).
+
+1. Held-Karp dynamic programme, vectorised over subsets: for each subset :math:`S` of
+   KPOIs and each :math:`j \in S`, :math:`f(S, j)` is the cheapest open path from 0
+   through exactly :math:`S` ending at :math:`j`:
+
+   .. math::
+       f(\{j\}, j) = d_{0j}, \qquad
+       f(S, j) = \min_{i \in S \setminus \{j\}} f(S \setminus \{j\}, i) + d_{ij}.
+
+   Path cost :math:`c(S) = \min_j f(S, j)`; tour cost :math:`c(S) = \min_j f(S, j) + d_{j0}`.
+   Time :math:`O(2^n n^2)`, memory :math:`O(2^n n)`: ``n <= 16`` (about 1 M states).
+
+2. ``min_robots(U)``: binary :math:`y_S` for every subset with :math:`c(S) \le U`,
+
+   .. math::
+       \min \sum_S y_S \quad \text{s.t.} \quad \sum_{S \ni i} y_S = 1 \quad (i = 1..n).
+
+3. ``min_makespan(k)``: the optimal makespan is one of the distinct route costs
+   :math:`c(S)`. Bisection over them, sorted: a value :math:`T` is achievable iff
+   ``min_robots(T) <= k``. The smallest achievable value is the optimum.
+
+Zero distances need no special care here: the dynamic programme enumerates routes
+explicitly, so no zero-length cycle can stand in for a route.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from scipy import sparse
+
+from milp.highs import LpSolve, make_lp, solve_lp
+from milp.result import MilpResult, relative_gap
+from milp.routes import check_distance_matrix, check_routes, within
+
+#: Largest number of KPOIs: 2^16 subsets x 16 end KPOIs is ~1 M DP states (8 MB), and
+#: the set-partitioning model has up to 65 535 columns; each extra KPOI doubles both.
+MAX_KPOIS = 16
+
+
+class RouteTable:
+    """Cheapest path and tour of every non-empty subset of KPOIs (Held-Karp).
+
+    Parameters
+    ----------
+    D : numpy.ndarray
+        ``(n+1, n+1)`` distance matrix, index 0 the start, ``n <= 16``.
+
+    Attributes
+    ----------
+    n : int
+        Number of KPOIs; subset ``S`` is a bit mask, bit ``i - 1`` for KPOI ``i``.
+    last : numpy.ndarray
+        ``last[S, j]``: cheapest open path from 0 through ``S`` ending at KPOI ``j + 1``
+        (``inf`` when ``j + 1`` is not in ``S``).
+    parent : numpy.ndarray
+        The KPOI index (0-based) before ``j`` on that path, ``-1`` at the first.
+    """
+
+    def __init__(self, D: np.ndarray) -> None:
+        n = len(D) - 1
+        if n > MAX_KPOIS:
+            raise ValueError(
+                f"set partitioning enumerates all 2^n subsets: n={n} > {MAX_KPOIS} would need "
+                f"{2 ** n * n:,} DP states and {2 ** n - 1:,} columns"
+            )
+        self.D, self.n = D, n
+        self.last, self.parent = _held_karp(D[1:, 1:], D[0, 1:])
+
+    def costs(self, *, tours: bool) -> np.ndarray:
+        """Cost of the cheapest route over each subset (index = mask; ``[0]`` unused)."""
+        back = self.D[1:, 0] if tours else np.zeros(self.n)
+        return (self.last + back[None, :]).min(axis=1)
+
+    def route(self, mask: int, *, tours: bool) -> list[int]:
+        """The cheapest route over subset ``mask`` as KPOI indices ``1..n``."""
+        back = self.D[1:, 0] if tours else np.zeros(self.n)
+        j = int(np.argmin(self.last[mask] + back))
+        order = []
+        while j >= 0:
+            order.append(j + 1)
+            previous = int(self.parent[mask, j])
+            mask ^= 1 << j
+            j = previous
+        return order[::-1]
+
+
+def _held_karp(between: np.ndarray, first: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Held-Karp tables ``(last, parent)`` layer by layer of subset size."""
+    n = len(first)
+    masks = np.arange(1 << n)
+    size = np.array([bin(s).count("1") for s in range(1 << n)]) if n <= 10 else _popcount(masks)
+    last = np.full((1 << n, n), np.inf)
+    parent = np.full((1 << n, n), -1, dtype=np.int8)
+    singles = 1 << np.arange(n)
+    last[singles, np.arange(n)] = first
+    for s in range(2, n + 1):
+        layer = masks[size == s]
+        for j in range(n):
+            with_j = layer[(layer >> j) & 1 == 1]
+            before = last[with_j ^ (1 << j)] + between[:, j][None, :]
+            best = np.argmin(before, axis=1)
+            last[with_j, j] = before[np.arange(len(with_j)), best]
+            parent[with_j, j] = best
+    return last, parent
+
+
+def _popcount(masks: np.ndarray) -> np.ndarray:
+    """Number of set bits of each mask (vectorised)."""
+    bits = np.zeros_like(masks)
+    for b in range(int(masks.max()).bit_length()):
+        bits += (masks >> b) & 1
+    return bits
+
+
+def _cover_model(table: RouteTable, masks: np.ndarray):
+    """Set-partitioning model: one binary column per subset in ``masks``, minimise count."""
+    n = table.n
+    member = (masks[:, None] >> np.arange(n)[None, :]) & 1
+    cols, rows = np.nonzero(member)
+    matrix = sparse.csc_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, len(masks)))
+    return make_lp(np.ones(len(masks)), (np.zeros(len(masks)), np.ones(len(masks))), matrix,
+                   (np.ones(n), np.ones(n)), np.ones(len(masks), dtype=bool))
+
+
+def _fewest_routes(table: RouteTable, costs: np.ndarray, deadline: float,
+                   time_limit: float | None) -> tuple[LpSolve, np.ndarray]:
+    """Solve the set-partitioning model over subsets within ``deadline``."""
+    masks = np.flatnonzero(within(costs, deadline))
+    masks = masks[masks > 0]
+    singles = 1 << np.arange(table.n)
+    if not np.all(within(costs[singles], deadline)):
+        alone = "a KPOI alone exceeds the deadline"
+        return LpSolve("infeasible", None, None, None, 0, alone), masks
+    return solve_lp(_cover_model(table, masks), time_limit=time_limit), masks
+
+
+def _chosen_routes(
+    table: RouteTable, solve: LpSolve, masks: np.ndarray, tours: bool
+) -> list[list[int]]:
+    """Routes of the subsets selected in a set-partitioning solution."""
+    picked = masks[solve.values > 0.5]
+    return [table.route(int(mask), tours=tours) for mask in picked]
+
+
+def min_robots(
+    D: np.ndarray,
+    deadline: float,
+    *,
+    tours: bool,
+    time_limit: float | None = None,
+    warm_start: list[list[int]] | None = None,
+) -> MilpResult:
+    """Fewest robots whose routes all meet ``deadline`` (set partitioning).
+
+    Parameters and return value as :func:`milp.arcflow.min_robots`; ``warm_start`` is
+    only checked (the model is solved from scratch). Raises ValueError for ``n > 16``.
+    """
+    began = time.perf_counter()
+    D = check_distance_matrix(D)
+    if warm_start is not None:
+        check_routes(warm_start, len(D) - 1)
+    table = RouteTable(D)
+    costs = table.costs(tours=tours)
+    solve, masks = _fewest_routes(table, costs, deadline, time_limit)
+    if solve.status == "infeasible":
+        return MilpResult("infeasible", seconds=time.perf_counter() - began, message=solve.message)
+    if solve.values is None:
+        return MilpResult("unknown", bound=solve.bound, nodes=solve.nodes,
+                          seconds=time.perf_counter() - began, message=solve.message)
+    routes = _chosen_routes(table, solve, masks, tours)
+    count = float(len(routes))
+    bound = count if solve.status == "optimal" else float(np.ceil((solve.bound or 1.0) - 1e-6))
+    return MilpResult(solve.status, routes, count, bound, relative_gap(count, bound), solve.nodes,
+                      time.perf_counter() - began, solve.message)
+
+
+def min_makespan(
+    D: np.ndarray,
+    k: int,
+    *,
+    tours: bool,
+    time_limit: float | None = None,
+    warm_start: list[list[int]] | None = None,
+) -> MilpResult:
+    """Least makespan with at most ``k`` robots (bisection over route costs).
+
+    Parameters and return value as :func:`milp.arcflow.min_makespan`; ``warm_start`` is
+    only checked. Raises ValueError for ``n > 16``. With a time limit, an unresolved
+    bisection step ends the search with the best achievable value found as ``feasible``
+    and the smallest value not yet ruled out as bound.
+    """
+    began = time.perf_counter()
+    D = check_distance_matrix(D)
+    if k < 1:
+        raise ValueError("k must be at least 1")
+    if warm_start is not None:
+        check_routes(warm_start, len(D) - 1)
+    table = RouteTable(D)
+    costs = table.costs(tours=tours)
+    values = np.unique(costs[1:])
+    floor = costs[1 << np.arange(table.n)].max()  # no route set beats its costliest single
+    values = values[values >= floor]
+    lo, hi = 0, int(np.searchsorted(values, costs[-1]))  # values[hi]: everything in one route
+    best = [table.route(len(costs) - 1, tours=tours)]
+    nodes, message = 0, "bisection over route costs"
+    while lo < hi:
+        mid = (lo + hi) // 2
+        remaining = None if time_limit is None else time_limit - (time.perf_counter() - began)
+        if remaining is not None and remaining <= 0:
+            message = "time limit"
+            break
+        solve, masks = _fewest_routes(table, costs, values[mid], remaining)
+        nodes += solve.nodes
+        if solve.status == "optimal" and solve.objective <= k + 0.5:
+            hi, best = mid, _chosen_routes(table, solve, masks, tours)
+        elif solve.status == "optimal" or solve.status == "infeasible":
+            lo = mid + 1
+        elif solve.values is not None and np.sum(solve.values > 0.5) <= k:
+            hi, best = mid, _chosen_routes(table, solve, masks, tours)
+        else:
+            message = solve.message
+            break
+    value = max(table.costs(tours=tours)[_mask(r)] for r in best)
+    status = "optimal" if lo == hi else "feasible"
+    bound = float(value) if status == "optimal" else float(values[lo])
+    return MilpResult(status, best, float(value), bound, relative_gap(float(value), bound), nodes,
+                      time.perf_counter() - began, message)
+
+
+def _mask(route: list[int]) -> int:
+    """Bit mask of the KPOIs on a route."""
+    return sum(1 << (i - 1) for i in route)

@@ -1,0 +1,168 @@
+"""A simple valid solution to start from: nearest-neighbour order, split optimally.
+
+The order visits every KPOI once (nearest unvisited KPOI next, from the start); it is
+then cut into consecutive routes by a dynamic programme, optimally for that order:
+least makespan with at most ``k`` routes, or fewest routes within a deadline.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from milp.routes import route_cost, within
+
+
+#: Largest number of nearest-neighbour orders tried by :func:`good_makespan_routes`.
+MAX_STARTS = 16
+
+
+def nearest_neighbour_order(D: np.ndarray, first: int | None = None) -> list[int]:
+    """All KPOIs ``1..n`` in nearest-neighbour order from the start 0 (or from ``first``)."""
+    n = len(D) - 1
+    unvisited = np.ones(n + 1, dtype=bool)
+    unvisited[0] = False
+    order, here = [], 0
+    if first is not None:
+        unvisited[first] = False
+        order, here = [first], first
+    for _ in range(n - len(order)):
+        candidates = np.flatnonzero(unvisited)
+        here = int(candidates[np.argmin(D[here, candidates])])
+        unvisited[here] = False
+        order.append(here)
+    return order
+
+
+def segment_costs(D: np.ndarray, order: list[int], *, tours: bool) -> np.ndarray:
+    """``cost[a, b]``: route over ``order[a..b]`` (inclusive); ``inf`` when ``a > b``."""
+    seq = np.asarray(order)
+    steps = np.concatenate([[0.0], np.cumsum(D[seq[:-1], seq[1:]])])
+    back = D[seq, 0] if tours else np.zeros(len(seq))
+    cost = D[0, seq][:, None] + steps[None, :] - steps[:, None] + back[None, :]
+    return np.where(np.triu(np.ones_like(cost, dtype=bool)), cost, np.inf)
+
+
+def split_min_makespan(D: np.ndarray, order: list[int], k: int, *, tours: bool) -> list[list[int]]:
+    """Cut ``order`` into at most ``k`` consecutive routes of least makespan."""
+    m = len(order)
+    cost = segment_costs(D, order, tours=tours)
+    best = np.full(m + 1, np.inf)
+    best[0] = 0.0
+    cuts = []
+    finals = []
+    for _ in range(min(k, m)):
+        worst = np.maximum(best[:m, None], cost)  # start a, end b
+        start = np.argmin(worst, axis=0)
+        new = np.full(m + 1, np.inf)
+        new[1:] = worst[start, np.arange(m)]
+        cuts.append(start)
+        finals.append(new[m])
+        best = new
+    used = int(np.argmin(finals)) + 1
+    routes, end = [], m
+    for c in range(used - 1, -1, -1):
+        a = int(cuts[c][end - 1])
+        routes.append(order[a:end])
+        end = a
+    return routes[::-1]
+
+
+def split_min_robots(
+    D: np.ndarray, order: list[int], deadline: float, *, tours: bool
+) -> list[list[int]]:
+    """Cut ``order`` into the fewest consecutive routes each within ``deadline``.
+
+    Assumes every single-KPOI route meets the deadline (else no split exists).
+    """
+    m = len(order)
+    cost = segment_costs(D, order, tours=tours)
+    allowed = within(cost, deadline)
+    count = np.full(m + 1, np.inf)
+    count[0] = 0
+    start = np.zeros(m, dtype=int)
+    for b in range(m):
+        options = np.where(allowed[: b + 1, b], count[: b + 1] + 1, np.inf)
+        start[b] = int(np.argmin(options))
+        count[b + 1] = options[start[b]]
+    if not np.isfinite(count[m]):
+        raise ValueError("a single KPOI exceeds the deadline")
+    routes, end = [], m
+    while end > 0:
+        a = int(start[end - 1])
+        routes.append(order[a:end])
+        end = a
+    return routes[::-1]
+
+
+def two_opt(D: np.ndarray, route: list[int], *, tours: bool) -> list[int]:
+    """Route improved by segment reversals until none shortens it (first improvement)."""
+    best, best_cost = list(route), route_cost(D, route, tours=tours)
+    improved = True
+    while improved:
+        improved = False
+        for i in range(len(best) - 1):
+            for j in range(i + 1, len(best)):
+                candidate = best[:i] + best[i : j + 1][::-1] + best[j + 1 :]
+                cost = route_cost(D, candidate, tours=tours)
+                if cost < best_cost - 1e-9:
+                    best, best_cost, improved = candidate, cost, True
+    return best
+
+
+def cheapest_insertion(D: np.ndarray, route: list[int], v: int, *, tours: bool) -> list[int]:
+    """``route`` with ``v`` inserted where it adds the least cost."""
+    stops = np.array([0, *route, 0] if tours else [0, *route])
+    added = D[stops[:-1], v] + D[v, stops[1:]] - D[stops[:-1], stops[1:]]
+    if not tours:
+        added = np.append(added, D[stops[-1], v])
+    at = int(np.argmin(added))
+    return route[:at] + [v] + route[at:]
+
+
+def relocate(D: np.ndarray, routes: list[list[int]], k: int, *, tours: bool) -> list[list[int]]:
+    """Move KPOIs off the costliest route while that lowers both routes below it.
+
+    Each accepted move lowers (makespan, number of routes at the makespan)
+    lexicographically, so the loop ends. A new route is opened while fewer than ``k``.
+    """
+    routes = [two_opt(D, r, tours=tours) for r in routes]
+    while True:
+        costs = [route_cost(D, r, tours=tours) for r in routes]
+        worst = int(np.argmax(costs))
+        move = _best_relocation(D, routes, worst, costs[worst], k, tours=tours)
+        if move is None:
+            return routes
+        routes = move
+
+
+def _best_relocation(
+    D: np.ndarray, routes: list[list[int]], worst: int, top: float, k: int, *, tours: bool
+) -> list[list[int]] | None:
+    """Routes after the best KPOI move out of route ``worst`` that beats ``top``, or None."""
+    best, best_value = None, top - 1e-9
+    targets = [i for i in range(len(routes)) if i != worst]
+    if len(routes) < k:
+        targets.append(len(routes))  # a new route
+    for v in routes[worst]:
+        rest = two_opt(D, [u for u in routes[worst] if u != v], tours=tours)
+        rest_cost = route_cost(D, rest, tours=tours) if rest else 0.0
+        for t in targets:
+            grown = cheapest_insertion(D, routes[t] if t < len(routes) else [], v, tours=tours)
+            value = max(rest_cost, route_cost(D, grown, tours=tours))
+            if value < best_value:
+                best_value = value
+                best = [r for r in routes] + ([] if t < len(routes) else [[]])
+                best[worst], best[t] = rest, two_opt(D, grown, tours=tours)
+    return None if best is None else [r for r in best if r]
+
+
+def good_makespan_routes(D: np.ndarray, k: int, *, tours: bool) -> list[list[int]]:
+    """Best over several nearest-neighbour orders (each from a different first KPOI,
+    improved by 2-opt) of the optimal split followed by relocations."""
+    n = len(D) - 1
+    firsts = np.unique(np.linspace(1, n, min(n, MAX_STARTS)).round().astype(int))
+    candidates = []
+    for first in firsts.tolist():
+        order = two_opt(D, nearest_neighbour_order(D, first), tours=False)
+        candidates.append(relocate(D, split_min_makespan(D, order, k, tours=tours), k, tours=tours))
+    return min(candidates, key=lambda routes: max(route_cost(D, r, tours=tours) for r in routes))

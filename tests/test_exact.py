@@ -1,0 +1,51 @@
+"""The exact methods through parcover: three models agree, exports reproduce the optimum."""
+
+from __future__ import annotations
+
+import highspy
+import pytest
+
+from parcover import Status, frontier, generate, solve
+
+CASES = [generate.random_points(7, 11), generate.random_graph(6, 5, virtual=8)]
+
+
+@pytest.mark.parametrize("instance", CASES, ids=["euclid7", "graph6"])
+@pytest.mark.parametrize("routes", ["paths", "tours"])
+@pytest.mark.parametrize("question", [{"robots": 2}, {}])
+def test_three_exact_methods_agree(instance, routes, question):
+    values = []
+    for method in ("exact", "setpart", "cvxpy"):
+        result = solve(instance, routes, method=method, **question)
+        assert result.status is Status.OPTIMAL, method
+        values.append(result.value)
+    assert values == pytest.approx([values[0]] * 3, rel=1e-6)
+
+
+def test_fig1_grid_optimal_makespans_8_4_4(fig1_grid):
+    # Fig. 1: one robot walks a Hamiltonian path of the 8 cells (8 unit moves; no
+    # shorter walk visits 8 cells); with 2 or 3 robots the far corner bounds it at c_max = 4.
+    makespans = [solve(fig1_grid, robots=k).makespan for k in (1, 2, 3)]
+    assert makespans == [8, 4, 4]
+
+
+def test_exported_model_gives_the_same_optimum(tmp_path):
+    instance = CASES[0]
+    path = tmp_path / "model.mps"
+    result = solve(instance, robots=2, export_model=str(path))
+    highs = highspy.Highs()
+    highs.setOptionValue("output_flag", False)
+    highs.readModel(str(path))
+    highs.setOptionValue("mip_rel_gap", 1e-9)
+    highs.run()
+    assert highs.getInfo().objective_function_value == pytest.approx(result.makespan, rel=1e-7)
+
+
+def test_exact_frontier_is_non_increasing_and_ends_at_least_makespan():
+    instance = generate.random_points(6, 2)
+    for routes, least in (("paths", instance.c_max), ("tours", 2 * instance.c_max)):
+        points = frontier(instance, routes).points
+        makespans = [p.makespan for p in points]
+        assert all(p.status is Status.OPTIMAL for p in points)
+        assert makespans == sorted(makespans, reverse=True)
+        assert makespans[-1] == pytest.approx(least)
