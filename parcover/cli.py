@@ -110,6 +110,35 @@ def _frontier(args: argparse.Namespace) -> int:
     return 0
 
 
+def _report(args: argparse.Namespace) -> int:
+    from parcover.report import write_report
+
+    path = write_report(
+        args.instances,
+        args.out,
+        args.methods.split(","),
+        routes=args.routes.split(","),
+        robots=[_whole(k, "--robots") for k in args.robots.split(",")],
+        deadlines=args.deadlines.split(","),
+        reference=args.reference,
+        time_limit=args.time_limit,
+        seed=args.seed,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        progress=False if args.no_progress else None,
+        plots=not args.no_plots,
+    )
+    print(f"wrote {path}")
+    return 0
+
+
+def _whole(text: str, flag: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise InputError(f"{flag} takes whole numbers separated by commas, got {text!r}.") from None
+
+
 def _print_frontier_point(k: int, result: Result) -> None:
     makespan = "-" if result.makespan is None else f"{result.makespan:.6g}"
     print(f"  k = {k}: makespan {makespan} ({result.status.value}, {result.seconds:.2f} s)", file=sys.stderr)
@@ -221,6 +250,30 @@ def _build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the frontier as one JSON object")
     p.add_argument("--out", metavar="FILE", help="also write the frontier JSON to FILE")
     p.set_defaults(run=_frontier)
+
+    p = commands.add_parser(
+        "report", help="optimality gaps of methods against an exact reference",
+        description="Runs every method and an exact reference on the instances and writes "
+        "gaps.csv, report.md, meta.json and plots to --out. An interrupted run resumes from gaps.csv.",
+        epilog="instance specs: files, folders, or generators such as random:n=6..10:seeds=0..4, "
+        "graph:n=8:seeds=0,1, grid:rows=3:cols=3, star:n=6",
+    )
+    p.add_argument("instances", nargs="+", help="instance files, folders or generator specs")
+    p.add_argument("--methods", default="paper,mst,nn,best", help="comma-separated methods (default: paper,mst,nn,best)")
+    p.add_argument("--routes", default="paths,tours", help="comma-separated route kinds (default: paths,tours)")
+    p.add_argument("--robots", default="2,3", help="robot limits for the makespan question (default: 2,3)")
+    p.add_argument("--deadlines", default="least",
+                   help="deadlines for the robots question: 'least' or factors of it, e.g. least,1.2 (default: least)")
+    p.add_argument("--reference", default="exact", help="the exact method giving the optimum (default: exact)")
+    p.add_argument("--time-limit", type=_positive_float, default=60.0, metavar="SECONDS",
+                   help="per solve, methods and reference alike (default: 60)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--workers", type=int, default=None, help="local processes (default: min(2, cores))")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="run on a Dask cluster instead (dask.distributed)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    p.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    p.set_defaults(run=_report)
 
     p = commands.add_parser("generate", help="write a generated instance file")
     kinds = p.add_subparsers(dest="kind", metavar="KIND", required=True)
