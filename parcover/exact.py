@@ -25,9 +25,10 @@ __all__ = ["exact", "setpart", "cvxpy_model", "METHODS", "warm_start_routes"]
 
 _STATUS = {"optimal": Status.OPTIMAL, "infeasible": Status.INFEASIBLE, "unknown": Status.UNKNOWN}
 
-# Seconds the warm-start heuristic may take, as a share of the exact method's limit.
+# The warm start: a fixed number of `best` rounds (deterministic), within this share
+# of the exact method's time limit when one is given.
 _WARM_SHARE = 0.1
-_WARM_DEFAULT_SECONDS = 2.0
+_WARM_ROUNDS = 10
 
 
 def exact(
@@ -98,8 +99,10 @@ def warm_start_routes(
     methods = available_methods()
     if "best" not in methods:
         return None
-    budget = _WARM_DEFAULT_SECONDS if time_limit is None else _WARM_SHARE * time_limit
-    solution = methods["best"].function(instance, problem, time_limit=budget, seed=seed)
+    budget = None if time_limit is None else _WARM_SHARE * time_limit
+    solution = methods["best"].function(
+        instance, problem, time_limit=budget, seed=seed, iterations=_WARM_ROUNDS
+    )
     return solution.routes or None
 
 

@@ -1,0 +1,119 @@
+"""Tests of ``best`` (parcover.algorithms.local_search)."""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from parcover import generate, solve
+from parcover.algorithms.local_search import best, improve, min_max_insertion
+from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
+from parcover.solve import METHODS, available_methods
+from parcover.verify import route_costs
+from strategies import instances
+
+QUESTIONS = [
+    ("paths", 2, None),
+    ("tours", 2, None),
+    ("paths", None, None),
+    ("tours", None, None),
+]
+
+
+def _value(instance, problem, routes):
+    """The objective key recomputed by the project's verifier."""
+    costs = route_costs(instance, routes, tours=problem.tours)
+    value = (max(costs), sum(costs))
+    return value if problem.objective == "makespan" else (len(routes), *value)
+
+
+@pytest.mark.parametrize("routes, robots, deadline", QUESTIONS)
+@pytest.mark.parametrize("fixture", ["fig1_grid", "fig3_star"])
+def test_best_is_valid_on_the_paper_figures(request, fixture, routes, robots, deadline):
+    instance = request.getfixturevalue(fixture)
+    result = solve(instance, routes, robots=robots, deadline=deadline, method="best")
+    # solve() raises SolverError on invalid routes; the makespan objective uses <= k robots
+    assert result.routes
+    if robots is not None:
+        assert result.robots <= robots
+
+
+def test_fig1_grid_two_paths_reach_the_optimum_four(fig1_grid):
+    # c_max = 4 (cell r2c2 is 4 steps from the start r0c0) is a lower bound on the
+    # makespan: some robot must reach r2c2. Two paths of cost 4 cover the 8 cells:
+    # r0c1 r0c2 r1c2 r2c2 and r1c0 r2c0 r2c1 r1c1 (one step each). So 4 is optimal.
+    result = solve(fig1_grid, "paths", robots=2, method="best")
+    assert result.makespan == pytest.approx(4.0)
+
+
+def test_tiny_line_tours_one_robot(tiny_line):
+    # One tour must go out to c (distance 3) and back: cost 6, reached by s a b c s.
+    result = solve(tiny_line, "tours", robots=1, method="best")
+    assert result.makespan == pytest.approx(6.0)
+
+
+def test_own_construction_is_valid_under_a_deadline(fig3_star):
+    problem = Problem("tours")  # deadline 2 c_max = 2: one KPOI per tour on the star
+    routes = min_max_insertion(fig3_star, problem)
+    assert sorted(v for r in routes for v in r) == list(range(1, 7))
+    assert all(meets_deadline(c, 2.0) for c in route_costs(fig3_star, routes, tours=True))
+
+
+def _raises(instance, problem, **_):
+    raise RuntimeError("a broken construction")
+
+
+def _misses_a_kpoi(instance, problem, **_):
+    return Solution(routes=[[1]])  # KPOIs 2..n uncovered: invalid, must be skipped
+
+
+def test_broken_constructions_are_skipped(monkeypatch, fig1_grid):
+    available_methods()  # load the registry before patching it
+    monkeypatch.setitem(METHODS, "broken", MethodInfo("broken", _raises, "raises"))
+    monkeypatch.setitem(METHODS, "partial", MethodInfo("partial", _misses_a_kpoi, "invalid"))
+    result = solve(fig1_grid, "paths", robots=2, method="best", iterations=2)
+    assert result.makespan == pytest.approx(4.0)
+    assert result.info["start"] not in ("broken", "partial")
+
+
+def test_same_seed_gives_identical_routes():
+    instance = generate.random_points(25, 3)
+    first = solve(instance, "paths", robots=3, method="best", seed=7, iterations=5)
+    second = solve(instance, "paths", robots=3, method="best", seed=7, iterations=5)
+    assert first.routes == second.routes
+
+
+def test_improves_a_poor_start_on_random_points():
+    # The trivial start deals KPOIs out in list order: far from optimal on random points.
+    instance = generate.random_points(30, 5)
+    problem = Problem("paths", robots=3)
+    start = [list(range(1, 11)), list(range(11, 21)), list(range(21, 31))]
+    routes, info = improve(instance, problem, start, seed=0, iterations=5)
+    assert _value(instance, problem, routes)[0] < _value(instance, problem, start)[0]
+    assert info["value"][0] == pytest.approx(_value(instance, problem, routes)[0])
+
+
+@settings(max_examples=25)
+@given(
+    instance=instances(1, 9),
+    routes=st.sampled_from(["paths", "tours"]),
+    robots=st.one_of(st.none(), st.integers(1, 4)),
+    seed=st.integers(0, 3),
+)
+def test_best_is_valid_and_never_worse_than_its_start(instance, routes, robots, seed):
+    problem = Problem(routes, robots=robots)
+    solution = best(instance, problem, seed=seed, iterations=3)
+    found = solution.routes
+    assert sorted(v for r in found for v in r) == list(range(1, instance.n + 1))
+    if robots is not None:
+        assert len(found) <= robots
+    deadline = problem.effective_deadline(instance)
+    costs = route_costs(instance, found, tours=problem.tours)
+    if deadline is not None:
+        assert all(meets_deadline(c, deadline) for c in costs)
+    value = _value(instance, problem, found)
+    start = solution.info["start_value"]
+    assert value[0] <= start[0] + 1e-9
+    if problem.objective == "robots" and value[0] == start[0]:
+        assert value[1] <= start[1] * (1 + 1e-9) + 1e-9
