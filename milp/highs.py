@@ -99,8 +99,9 @@ def make_lp(
     return lp
 
 
-def new_highs(time_limit: float | None) -> highspy.Highs:
-    """A silent HiGHS instance with the exact-gap options and an optional time limit."""
+def new_highs(time_limit: float | None, options: dict | None = None) -> highspy.Highs:
+    """A silent HiGHS instance with the exact-gap options, an optional time limit and
+    any further ``options`` (HiGHS option name -> value)."""
     h = highspy.Highs()
     h.setOptionValue("output_flag", False)
     h.setOptionValue("mip_rel_gap", MIP_REL_GAP)
@@ -108,11 +109,18 @@ def new_highs(time_limit: float | None) -> highspy.Highs:
     h.setOptionValue("threads", THREADS)
     if time_limit is not None:
         h.setOptionValue("time_limit", float(max(time_limit, 1e-3)))
+    for name, value in (options or {}).items():
+        if h.setOptionValue(name, value) == highspy.HighsStatus.kError:
+            raise ValueError(f"HiGHS rejects option {name}={value!r}")
     return h
 
 
 def solve_lp(
-    lp: highspy.HighsLp, *, time_limit: float | None, start: np.ndarray | None = None
+    lp: highspy.HighsLp,
+    *,
+    time_limit: float | None,
+    start: np.ndarray | None = None,
+    options: dict | None = None,
 ) -> LpSolve:
     """Solve a MILP with HiGHS and map the outcome to the four statuses.
 
@@ -124,6 +132,8 @@ def solve_lp(
         Seconds; None for no limit.
     start : numpy.ndarray, optional
         A feasible column vector passed to HiGHS as a warm start (``setSolution``).
+    options : dict, optional
+        Further HiGHS options for this solve.
 
     Returns
     -------
@@ -136,7 +146,7 @@ def solve_lp(
     AssertionError
         If HiGHS reports a bound above its own objective (beyond tolerance).
     """
-    h = new_highs(time_limit)
+    h = new_highs(time_limit, options)
     h.passModel(lp)
     if start is not None:
         solution = highspy.HighsSolution()

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import time
 
+import highspy
 import numpy as np
 from scipy import sparse
 
@@ -94,7 +95,7 @@ def _held_karp(between: np.ndarray, first: np.ndarray) -> tuple[np.ndarray, np.n
     """Held-Karp tables ``(last, parent)`` layer by layer of subset size."""
     n = len(first)
     masks = np.arange(1 << n)
-    size = np.array([bin(s).count("1") for s in range(1 << n)]) if n <= 10 else _popcount(masks)
+    size = _popcount(masks)
     last = np.full((1 << n, n), np.inf)
     parent = np.full((1 << n, n), -1, dtype=np.int8)
     singles = 1 << np.arange(n)
@@ -118,7 +119,7 @@ def _popcount(masks: np.ndarray) -> np.ndarray:
     return bits
 
 
-def _cover_model(table: RouteTable, masks: np.ndarray):
+def _cover_model(table: RouteTable, masks: np.ndarray) -> highspy.HighsLp:
     """Set-partitioning model: one binary column per subset in ``masks``, minimise count."""
     n = table.n
     member = (masks[:, None] >> np.arange(n)[None, :]) & 1

@@ -7,6 +7,8 @@ least makespan with at most ``k`` routes, or fewest routes within a deadline.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from milp.routes import route_cost, within
@@ -156,13 +158,21 @@ def _best_relocation(
     return None if best is None else [r for r in best if r]
 
 
-def good_makespan_routes(D: np.ndarray, k: int, *, tours: bool) -> list[list[int]]:
+def good_makespan_routes(
+    D: np.ndarray, k: int, *, tours: bool, seconds: float | None = None
+) -> list[list[int]]:
     """Best over several nearest-neighbour orders (each from a different first KPOI,
-    improved by 2-opt) of the optimal split followed by relocations."""
+    improved by 2-opt) of the optimal split followed by relocations.
+
+    No new order is tried once ``seconds`` have passed (at least one always is).
+    """
+    began = time.perf_counter()
     n = len(D) - 1
     firsts = np.unique(np.linspace(1, n, min(n, MAX_STARTS)).round().astype(int))
     candidates = []
     for first in firsts.tolist():
+        if candidates and seconds is not None and time.perf_counter() - began > seconds:
+            break
         order = two_opt(D, nearest_neighbour_order(D, first), tours=False)
         candidates.append(relocate(D, split_min_makespan(D, order, k, tours=tours), k, tours=tours))
     return min(candidates, key=lambda routes: max(route_cost(D, r, tours=tours) for r in routes))
