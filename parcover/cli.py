@@ -16,6 +16,7 @@ from parcover import generate as gen
 from parcover.errors import InputError
 from parcover.frontier import frontier
 from parcover.result import Result
+from parcover.instance import Instance
 from parcover.io import FileFormatError, read_instance, read_json, write_instance
 from parcover.solve import available_methods, solve
 from parcover.verify import InvalidSolution, verify
@@ -73,6 +74,12 @@ def _solve(args: argparse.Namespace) -> int:
             print(line)
         print()
     _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
+    if args.plot:
+        if not result.routes:
+            raise InputError(f"No routes to draw: the answer is {result.status.value}.")
+        from parcover.plot import plot_routes
+
+        plot_routes(instance, result, args.plot)
     return 0
 
 
@@ -107,6 +114,10 @@ def _frontier(args: argparse.Namespace) -> int:
         instance, args.routes, args.method, time_limit=args.time_limit, seed=args.seed, progress=progress
     )
     _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
+    if args.plot:
+        from parcover.plot import plot_frontier
+
+        plot_frontier(result, args.plot)
     return 0
 
 
@@ -152,16 +163,29 @@ def _generate(args: argparse.Namespace) -> int:
             args.n, args.seed, layout=args.layout, size=args.size, clusters=args.clusters, start=args.start
         ),
         "graph": lambda: gen.random_graph(args.n, args.seed, virtual=args.virtual, size=args.size, detour=args.detour),
+        "map": lambda: _map_instance(args),
     }
     instance = makers[args.kind]()
     if args.name:
         instance = instance.replace(name=args.name)
-    text = write_instance(instance)
     if args.out:
-        _write(args.out, text)
+        try:
+            write_instance(instance, args.out)
+        except OSError as exc:
+            raise InputError(f"Cannot write {args.out}: {exc.strerror}.") from None
     else:
-        sys.stdout.write(text)
+        sys.stdout.write(write_instance(instance))
     return 0
+
+
+def _map_instance(args: argparse.Namespace) -> Instance:
+    from parcover.maps import instance_from_map
+
+    scale = args.metres_per_pixel[0] if len(args.metres_per_pixel) == 1 else tuple(args.metres_per_pixel)
+    return instance_from_map(
+        args.image, scale, kpois=args.kpois, seed=args.seed, start=tuple(args.start) if args.start else None,
+        graph=args.graph, robot_radius=args.robot_radius, origin=tuple(args.origin),
+    )
 
 
 # -- helpers -------------------------------------------------------------------------
@@ -233,6 +257,7 @@ def _build_parser() -> argparse.ArgumentParser:
                    help="write the compact MILP (method exact) to an .mps or .lp file any MILP solver reads")
     p.add_argument("--json", action="store_true", help="print the result as one JSON object")
     p.add_argument("--out", metavar="FILE", help="also write the result JSON to FILE")
+    p.add_argument("--plot", metavar="FILE.png", help="draw the routes (over the map image when there is one)")
     p.set_defaults(run=_solve)
 
     p = commands.add_parser("verify", help="check a solution file against an instance",
@@ -249,6 +274,7 @@ def _build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=0, help="seed of randomised methods (default: 0)")
     p.add_argument("--json", action="store_true", help="print the frontier as one JSON object")
     p.add_argument("--out", metavar="FILE", help="also write the frontier JSON to FILE")
+    p.add_argument("--plot", metavar="FILE.png", help="draw robots against makespan")
     p.set_defaults(run=_frontier)
 
     p = commands.add_parser(
@@ -294,6 +320,17 @@ def _build_parser() -> argparse.ArgumentParser:
     g.add_argument("--virtual", type=int, default=None, help="number of virtual nodes (default: 2n)")
     g.add_argument("--size", type=_positive_float, default=100.0)
     g.add_argument("--detour", type=_float, default=0.5, help="edge weight = length x U[1, 1 + detour]")
+    g = kinds.add_parser("map", help="a floor-plan bitmap: random KPOIs in free space, a graph around the walls")
+    g.add_argument("--image", required=True, help="bitmap: black = wall, white = free, grey = unknown (wall)")
+    g.add_argument("--metres-per-pixel", type=_positive_float, nargs="+", required=True, metavar="X [Y]",
+                   help="scale of a pixel (two values when the axes differ)")
+    g.add_argument("--kpois", type=int, default=20, help="number of random KPOIs (default: 20)")
+    g.add_argument("--start", type=_float, nargs=2, metavar=("X", "Y"), help="start position in metres (default: random)")
+    g.add_argument("--graph", choices=("decomposition", "visibility"), default="decomposition",
+                   help="the paper's vertical cell decomposition (default) or a visibility graph (true distances)")
+    g.add_argument("--robot-radius", type=_float, default=0.0, help="inflate the walls by this many metres")
+    g.add_argument("--origin", type=_float, nargs=2, default=(0.0, 0.0), metavar=("X", "Y"),
+                   help="world position of the image's lower-left corner (default: 0 0)")
     for g in kinds.choices.values():
         g.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
         g.add_argument("--name", help="instance name (default: derived from the parameters)")

@@ -148,8 +148,15 @@ def instance_to_dict(instance: Instance) -> dict[str, Any]:
 
 
 def write_instance(instance: Instance, path: str | os.PathLike[str] | None = None) -> str:
-    """Write the instance as JSON to ``path`` (or just return the text)."""
-    text = _readable_json(instance_to_dict(instance))
+    """Write the instance as JSON to ``path`` (or just return the text).
+
+    A map image is stored relative to the file's folder, as :func:`read_instance`
+    resolves it.
+    """
+    data = instance_to_dict(instance)
+    if path is not None and "map" in data and os.path.isabs(data["map"]["image"]):
+        data["map"]["image"] = os.path.relpath(data["map"]["image"], Path(path).resolve().parent)
+    text = _readable_json(data)
     if path is not None:
         Path(path).write_text(text, encoding="utf-8")
     return text

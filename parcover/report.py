@@ -1002,34 +1002,37 @@ def draw_plots(
     by_name = {inst.name: inst for inst in insts}
     drawn: list[tuple[str, str]] = []
 
-    def draw(function: str, caption: str, name: str, make_args: Callable[[], tuple[Any, ...]]) -> None:
-        if not hasattr(plot, function):
-            log.warning("parcover.plot has no %s(); skipping %s.", function, name)
-            return
+    def draw(caption: str, name: str, render: Callable[[Path], None]) -> None:
         try:
-            getattr(plot, function)(*make_args(), out / name)
+            render(out / name)
         except Exception as exc:  # a drawing must not cost the report
-            log.warning("Skipping %s: %s() failed (%s: %s).", name, function, type(exc).__name__, exc)
+            log.warning("Skipping %s: %s: %s.", name, type(exc).__name__, exc)
             return
         drawn.append((caption, name))
 
-    draw("plot_gap_distribution", "Gap distribution per method", "gaps.png", lambda: (frame,))
+    draw("Gap distribution per method", "gaps.png", lambda path: plot.plot_gap_distribution(frame, path))
     for kind in dict.fromkeys(frame["routes"]):
         worst_of_kind = worst_rows(frame[frame["routes"] == kind], 1)
         if worst_of_kind.empty:
             continue
         name = worst_of_kind["instance"].iloc[0]
-        draw(
-            "plot_frontier", f"Frontier of {name} ({kind}) with each method's point", f"frontier-{name}-{kind}.png",
-            lambda: _frontier_args(by_name[name], kind, frame, reference, time_limit, seed),
-        )
+
+        def render_frontier(path: Path, name: str = name, kind: RoutesKind = kind) -> None:
+            curve, points = _frontier_args(by_name[name], kind, frame, reference, time_limit, seed)
+            plot.plot_frontier(curve, path, points=points)
+
+        draw(f"Frontier of {name} ({kind}) with each method's point", f"frontier-{name}-{kind}.png", render_frontier)
     worst = worst_rows(frame, worst_cases)
     for rank, row in enumerate(worst.itertuples(index=False), start=1):
+
+        def render_comparison(path: Path, row: Any = row) -> None:
+            instance, greedy, optimal = _comparison_args(by_name[row.instance], row, reference, time_limit, seed)
+            plot.plot_side_by_side(instance, [greedy, optimal], path, [row.method, reference])
+
         draw(
-            "plot_route_comparison",
             f"Worst case {rank}: {row.method} against {reference} on {row.instance} ({row.routes}, {row.question})",
             f"worst-{rank}.png",
-            lambda: _comparison_args(by_name[row.instance], row, reference, time_limit, seed),
+            render_comparison,
         )
     return drawn
 

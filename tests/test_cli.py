@@ -148,3 +148,34 @@ def test_bundled_instances_are_reproduced_by_their_commands(capsys):
     for name, argv in commands.items():
         _, out, _ = run(capsys, "generate", *argv)
         assert out == (ROOT / "instances" / name).read_text(), name
+
+
+def test_generate_map_writes_a_solvable_instance_with_a_relative_image(capsys, tmp_path):
+    out = tmp_path / "cave.json"
+    image = ROOT / "instances" / "maps" / "cave.png"
+    code, _, _ = run(capsys, "generate", "map", "--image", str(image), "--metres-per-pixel", "0.032",
+                     "--kpois", "6", "--seed", "3", "--out", str(out))
+    assert code == 0
+    data = json.loads(out.read_text())
+    assert not Path(data["map"]["image"]).is_absolute() and len(data["kpois"]) == 6
+    code, _, _ = run(capsys, "solve", str(out), "--method", "nn", "--plot", str(tmp_path / "r.png"))
+    assert code == 0 and (tmp_path / "r.png").stat().st_size > 1000
+
+
+def test_frontier_plot(capsys, tmp_path):
+    code, _, _ = run(capsys, "frontier", GRID, "--method", "trivial", "--plot", str(tmp_path / "f.png"))
+    assert code == 0 and (tmp_path / "f.png").stat().st_size > 1000
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["generate", "map", "--image", "no/such.png", "--metres-per-pixel", "1"], "no such image file"),
+        (["generate", "map", "--image", GRID, "--metres-per-pixel", "1"], "not a readable image"),
+        (["solve", GRID, "--deadline", "1", "--plot", "x.png"], "No routes to draw"),
+    ],
+)
+def test_bad_map_and_plot_input_exits_2(capsys, argv, message):
+    assert _exit_status(argv) == 2
+    _, err = capsys.readouterr()
+    assert message in err and len(err.strip().splitlines()) == 1

@@ -317,65 +317,61 @@ def test_write_report_writes_csv_meta_and_report(tmp_path, tiny_line):
     assert "| trivial | 1 | 1 | 200.00 | 200.00 | 200.00 | 0/1 (0%) |" in text
 
 
-class _FakePlot:
-    """Stands in for parcover.plot: records each call and writes an empty file."""
+class _PlotSpy:
+    """Replaces parcover.plot's functions: records each call and writes an empty file."""
 
-    def __init__(self, functions):
+    def __init__(self, monkeypatch, functions):
+        from parcover import plot
+
         self.calls = []
         for name in functions:
-            setattr(self, name, self._recorder(name))
+            monkeypatch.setattr(plot, name, self._recorder(name))
 
     def _recorder(self, name):
-        def record(*args):
-            self.calls.append((name, args))
-            args[-1].write_bytes(b"")
+        def record(*args, **kwargs):
+            self.calls.append((name, args, kwargs))
+            path = args[2] if name == "plot_side_by_side" else args[1]
+            path.write_bytes(b"")
 
         return record
 
 
 def test_plots_are_drawn_for_the_worst_cases(tmp_path, tiny_line, monkeypatch):
-    import sys
-
-    fake = _FakePlot(["plot_gap_distribution", "plot_frontier", "plot_route_comparison"])
-    monkeypatch.setitem(sys.modules, "parcover.plot", fake)
-    monkeypatch.delattr("parcover.plot", raising=False)
+    spy = _PlotSpy(monkeypatch, ["plot_gap_distribution", "plot_frontier", "plot_side_by_side"])
     path = report.write_report(tiny_line, tmp_path, ["trivial", "backwards"], routes=("paths",), robots=(2,),
                                reference="brute", workers=1, progress=False, worst_cases=2)
-    calls = {name: args for name, args in fake.calls}
-    assert [name for name, _ in fake.calls] == [
-        "plot_gap_distribution", "plot_frontier", "plot_route_comparison", "plot_route_comparison"
+    assert [name for name, _, _ in spy.calls] == [
+        "plot_gap_distribution", "plot_frontier", "plot_side_by_side", "plot_side_by_side"
     ]
-    assert len(calls["plot_gap_distribution"][0]) == 5  # the rows of test_rows_on_the_line_derived_by_hand
-    curve, points = calls["plot_frontier"][:2]
+    assert len(spy.calls[0][1][0]) == 5  # the rows of test_rows_on_the_line_derived_by_hand
+    curve, points = spy.calls[1][1][0], spy.calls[1][2]["points"]
     # the line: 1 robot already reaches c_max = 3, so the frontier is the single point (1, 3)
     assert [(p.robots, p.makespan) for p in curve.points] == [(1, 3.0)]
     assert points == {"trivial": [(2, 3.0), (3, 3.0)], "backwards": [(1, 5.0)]}
     # worst case: trivial's 3 robots against 1 at c_max (200 %); the instance, its result, the reference's
-    instance, greedy, optimal = fake.calls[2][1][:3]
+    instance, (greedy, optimal) = spy.calls[2][1][0], spy.calls[2][1][1]
     assert instance is tiny_line and (greedy.robots, optimal.robots) == (3, 1)
     # next: backwards' makespan 5 against 3 with 2 robots (2/3 worse; first of the two such rows)
-    _, greedy, optimal = calls["plot_route_comparison"][:3]
+    greedy, optimal = spy.calls[3][1][1]
     assert (greedy.makespan, optimal.makespan, optimal.robots_limit) == (5.0, 3.0, 2)
     text = path.read_text()
     assert "![Gap distribution per method](gaps.png)" in text and "(worst-2.png)" in text
     assert all((tmp_path / name).exists() for name in ("gaps.png", "frontier-line-paths.png", "worst-1.png"))
 
 
-def test_a_missing_plot_function_is_skipped_with_a_note(tmp_path, tiny_line, monkeypatch, caplog):
-    import sys
+def test_a_failing_plot_is_skipped_with_a_note(tmp_path, tiny_line, monkeypatch, caplog):
+    from parcover import plot
 
-    def broken(*args):
+    def broken(*args, **kwargs):
         raise TypeError("wrong arguments")
 
-    fake = _FakePlot(["plot_gap_distribution"])
-    fake.plot_frontier = broken
-    monkeypatch.setitem(sys.modules, "parcover.plot", fake)
-    monkeypatch.delattr("parcover.plot", raising=False)
+    spy = _PlotSpy(monkeypatch, ["plot_gap_distribution"])
+    monkeypatch.setattr(plot, "plot_frontier", broken)
+    monkeypatch.setattr(plot, "plot_side_by_side", broken)
     path = report.write_report(tiny_line, tmp_path, ["trivial"], routes=("paths",), robots=(2,),
                                reference="brute", workers=1, progress=False)
-    assert [name for name, _ in fake.calls] == ["plot_gap_distribution"]
-    assert "plot_frontier() failed (TypeError: wrong arguments)" in caplog.text
-    assert "parcover.plot has no plot_route_comparison()" in caplog.text
+    assert [name for name, _, _ in spy.calls] == ["plot_gap_distribution"]
+    assert "TypeError: wrong arguments" in caplog.text
     text = path.read_text()
     assert "(gaps.png)" in text and "frontier-line-paths.png" not in text and "worst-1.png" not in text
 
