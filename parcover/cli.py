@@ -143,6 +143,26 @@ def _report(args: argparse.Namespace) -> int:
     return 0
 
 
+def _props(args: argparse.Namespace) -> int:
+    from parcover.props import props, render_table
+
+    command = "parcover props" + "".join(
+        f" {flag}" for flag, on in (
+            (f"--seed {args.seed}", args.seed != 0), ("--quick", args.quick),
+            (f"--time-limit {args.time_limit:g}", args.time_limit != 10.0),
+            (f"--exact {args.exact}", args.exact != "exact"),
+            (f"--out-dir {args.out_dir}", bool(args.out_dir)), (f"--report {args.report}", bool(args.report)),
+        ) if on
+    )
+    verdicts = props(
+        seed=args.seed, quick=args.quick, time_limit=args.time_limit, exact=args.exact,
+        greedy=args.greedy.split(",") if args.greedy else None,
+        out_dir=args.out_dir, report_path=args.report, command=command,
+    )
+    print(render_table(verdicts))
+    return 0
+
+
 def _whole(text: str, flag: str) -> int:
     try:
         return int(text)
@@ -300,6 +320,21 @@ def _build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder")
     p.set_defaults(run=_report)
+
+    p = commands.add_parser(
+        "props", help="verdicts on the paper's claims, from exact optima",
+        description="Checks Props. 1-2, Figs. 1 and 3 and the optimality claims of Algorithms 1, 1-1 "
+        "and 2 against exact optima on grids, stars, random and graph instances; shrinks counterexamples.",
+    )
+    p.add_argument("--seed", type=int, default=0, help="seed of the random instance families (default: 0)")
+    p.add_argument("--quick", action="store_true", help="small families only (seconds)")
+    p.add_argument("--time-limit", type=_positive_float, default=10.0, metavar="SECONDS",
+                   help="per exact solve (default: 10); unproven instances count as undecided")
+    p.add_argument("--exact", default="exact", help="exact method giving the optima (default: exact)")
+    p.add_argument("--greedy", help="comma-separated methods to judge (default: every paper* method)")
+    p.add_argument("--out-dir", metavar="DIR", help="save shrunk counterexamples here (e.g. instances/counterexamples)")
+    p.add_argument("--report", metavar="FILE.md", help="write the verdicts with pictures (e.g. reports/verdicts.md)")
+    p.set_defaults(run=_props)
 
     p = commands.add_parser("generate", help="write a generated instance file")
     kinds = p.add_subparsers(dest="kind", metavar="KIND", required=True)

@@ -337,12 +337,20 @@ class Instance:
 
         In travel order, ending with ``target`` (Alg. 1 steps 3 and 5c: ``P_i`` is
         every KPOI on the path ``pi_si``). In a complete Euclidean instance the
-        shortest path is the straight edge, so this is ``(target,)``.
+        shortest path is the straight segment, which meets the KPOIs lying on it.
         """
         if self._key_row_of_node is None:
-            return (target,)
+            return self._kpois_on_segment(target)
         rows = self._key_row_of_node[self._node_walk(0, target)[1:]]
         return tuple(int(r) for r in rows if r > 0)
+
+    def _kpois_on_segment(self, target: int) -> tuple[int, ...]:
+        """KPOIs ``k`` with ``d(s, k) + d(k, target) = d(s, target)``, by distance from s."""
+        d = self.distances
+        through = d[0, 1:] + d[1:, target]
+        on = np.flatnonzero(through <= d[0, target] * (1 + 1e-12) + 1e-12) + 1
+        on = on[(on != target) & (d[0, on] > 0)]
+        return (*(int(k) for k in on[np.argsort(d[0, on], kind="stable")]), target)
 
     def shortest_walk(self, u: str, v: str) -> list[str]:
         """The nodes (virtual ones included) of a shortest path from ``u`` to ``v``."""

@@ -179,3 +179,8 @@ def test_bad_map_and_plot_input_exits_2(capsys, argv, message):
     assert _exit_status(argv) == 2
     _, err = capsys.readouterr()
     assert message in err and len(err.strip().splitlines()) == 1
+
+
+def test_props_quick_prints_the_verdict_table(capsys):
+    code, out, _ = run(capsys, "props", "--quick", "--greedy", "paper")
+    assert code == 0 and "prop1-paths" in out and "alg1-paper" in out

@@ -85,6 +85,12 @@ def test_P_max_lists_kpois_passed_on_the_way():
     assert inst.v_max == "b" and inst.P_max == ("a", "b")
 
 
+def test_P_max_in_the_plane_lists_kpois_on_the_straight_segment():
+    # s at the origin, v_max = c at distance 3; a and b lie on the segment s-c, d does not
+    inst = Instance.from_points([[0, 0], [0, -3], [0, -2], [1, 0], [0, -1]], names=["s", "c", "b", "d", "a"])
+    assert inst.P_max == ("a", "b", "c")
+
+
 def test_start_listed_as_kpoi_is_covered_at_time_zero():
     inst = Instance.from_points([[0, 0], [1, 0]], names=["s", "a"]).replace(kpois=("s", "a"))
     assert inst.kpois == ("a",) and inst.start_is_kpoi

@@ -28,6 +28,21 @@ VARIANTS = [info.name for info in METHODS]
 READINGS = [LITERAL, Reading(grow_from_end=True), Reading(supplement_from_end=True), NEAREST_END]
 
 
+@pytest.fixture(scope="module")
+def line_graph() -> Instance:
+    """s, a, b, c at 0, 1, 2, 3 as a complete graph with the line's distances.
+
+    The metric is tiny_line's, but the shortest path found from s to c is the direct
+    edge (Dijkstra keeps the first of tied paths), so P_1 = [c]; on the plane the
+    segment s-c passes a and b, and P_1 would be [a, b, c].
+    """
+    pos = {"s": 0, "a": 1, "b": 2, "c": 3}
+    edges = tuple((u, v, float(abs(pos[u] - pos[v]))) for u in pos for v in pos if pos[u] < pos[v])
+    inst = Instance("s", ("a", "b", "c"), edges=edges, name="line-graph")
+    assert inst.P_max == ("c",)
+    return inst
+
+
 def ids(instance: Instance, routes: list[list[int]]) -> list[list[str]]:
     return [[instance.ids[i] for i in route] for route in routes]
 
@@ -97,39 +112,39 @@ def test_algorithm_1_follows_shortest_paths_in_a_graph(branches: Instance) -> No
         assert result.route_costs == pytest.approx([2.0, 1.9])
 
 
-def test_algorithm_1_1_readings_on_the_line(tiny_line: Instance) -> None:
+def test_algorithm_1_1_readings_on_the_line(line_graph: Instance) -> None:
     # c_max = 3, P_1 = [c], deadline c_p = 5 > c_max: Algorithm 1-1.
     # Literal step 1 (nearest to the start): a: 3 + d(c, a) = 5 <= 5, add, v_d = a;
     #   b: 5 + 1 = 6 > 5, break. Step 5: path [b] (cost 2). Two paths.
     # Nearest to the end: b: 3 + 1 = 4, add; a: 4 + 1 = 5, add. One path.
-    assert kpois(pc.solve(tiny_line, deadline=5, method="paper")) == [["c", "a"], ["b"]]
-    assert kpois(pc.solve(tiny_line, deadline=5, method="paper-5d-end")) == [["c", "a"], ["b"]]
+    assert kpois(pc.solve(line_graph, deadline=5, method="paper")) == [["c", "a"], ["b"]]
+    assert kpois(pc.solve(line_graph, deadline=5, method="paper-5d-end")) == [["c", "a"], ["b"]]
     for method in ("paper-1-1-end", "paper-nearest-end"):
-        assert kpois(pc.solve(tiny_line, deadline=5, method=method)) == [["c", "b", "a"]]
+        assert kpois(pc.solve(line_graph, deadline=5, method=method)) == [["c", "b", "a"]]
 
 
-def test_robot_limit_scans_thresholds_on_the_line(tiny_line: Instance) -> None:
+def test_robot_limit_scans_thresholds_on_the_line(line_graph: Instance) -> None:
     # K = 1. Literal: Alg 1 at 3 gives [c], [a, b]; Alg 1-1 just above 3 rejects
     # a at 5, still two paths; at 5 it adds a and rejects b at 6; at 6 it adds b:
     # one path c, a, b of cost 3 + 2 + 1 = 6.
     # Nearest end: Alg 1-1 just above 3 rejects b at 4; at 4: c, b, a costs 5.
-    literal = pc.solve(tiny_line, robots=1, method="paper")
+    literal = pc.solve(line_graph, robots=1, method="paper")
     assert kpois(literal) == [["c", "a", "b"]] and literal.makespan == pytest.approx(6)
     assert literal.info["threshold"] == pytest.approx(6) and literal.info["search"]["exact"]
-    end = pc.solve(tiny_line, robots=1, method="paper-nearest-end")
+    end = pc.solve(line_graph, robots=1, method="paper-nearest-end")
     assert kpois(end) == [["c", "b", "a"]] and end.makespan == pytest.approx(5)
     # K = 2: Algorithm 1 at c_max = 3 already gives two paths.
-    two = pc.solve(tiny_line, robots=2, method="paper")
+    two = pc.solve(line_graph, robots=2, method="paper")
     assert kpois(two) == [["c"], ["a", "b"]] and two.info["threshold"] == 3
 
 
-def test_bisection_when_the_scan_budget_is_used_up(tiny_line: Instance) -> None:
+def test_bisection_when_the_scan_budget_is_used_up(line_graph: Instance) -> None:
     # One scan run (Algorithm 1 at 3: two paths) and K = 1. The one-route run (at
     # infinity) is c, a, b with largest test 6; bisection between 3 and 6: at 4.5
     # Alg 1-1 rejects a at 5 (two paths), so low = 5; at 5.5 it adds a and rejects b
     # at 6 (two paths), so low = 6 = high: threshold 6, one path c, a, b.
     problem = Problem("paths", robots=1)
-    solution = paper(tiny_line, problem, max_scan_runs=1)
+    solution = paper(line_graph, problem, max_scan_runs=1)
     assert solution.routes == [[3, 1, 2]]
     assert solution.info["threshold"] == 6 and not solution.info["search"]["exact"]
 
@@ -156,11 +171,11 @@ def test_robot_count_is_not_monotone_in_the_deadline() -> None:
     assert two.robots <= 2 and two.info["threshold"] <= 21.9
 
 
-def test_algorithm_2_published_on_the_line(tiny_line: Instance) -> None:
+def test_algorithm_2_published_on_the_line(line_graph: Instance) -> None:
     # Alg 1: [c] (cost 3), then 5a a, 5d b: 1 + 1 = 2 <= 3 -> [a, b] (cost 2).
     # Alg 2: a = path 1 (end c); partner path 2 (end b): 3 + 1 + 2 = 6.
     # Tour s, c, b, a, s of cost 6; the deadline is dropped.
-    result = pc.solve(tiny_line, routes="tours", method="paper")
+    result = pc.solve(line_graph, routes="tours", method="paper")
     assert kpois(result, tours=True) == [["c", "b", "a"]]
     assert result.makespan == pytest.approx(6) and result.deadline is None
 
