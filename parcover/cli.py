@@ -7,6 +7,7 @@ finds the solution invalid, 2 with one line on stderr for usage errors and bad i
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -35,6 +36,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
     parser = _build_parser()
     args = parser.parse_args(argv)
+    args.command_line = shlex.join(["parcover", *(sys.argv[1:] if argv is None else argv)])
     if not hasattr(args, "run"):
         parser.print_help(sys.stderr)
         return 2
@@ -139,6 +141,8 @@ def _report(args: argparse.Namespace) -> int:
         progress=False if args.no_progress else None,
         plots=not args.no_plots,
     )
+    title, _, rest = path.read_text(encoding="utf-8").partition("\n")
+    path.write_text(f"{title}\n\nRegenerate with:\n\n    {args.command_line}\n{rest}", encoding="utf-8")
     print(f"wrote {path}")
     return 0
 

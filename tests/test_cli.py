@@ -184,3 +184,11 @@ def test_bad_map_and_plot_input_exits_2(capsys, argv, message):
 def test_props_quick_prints_the_verdict_table(capsys):
     code, out, _ = run(capsys, "props", "--quick", "--greedy", "paper")
     assert code == 0 and "prop1-paths" in out and "alg1-paper" in out
+
+
+def test_report_writes_the_command_that_regenerates_it(capsys, tmp_path):
+    argv = ["report", "random:n=4:seeds=0", "--methods", "trivial", "--routes", "paths", "--robots", "2",
+            "--time-limit", "5", "--workers", "1", "--no-progress", "--no-plots", "--out", str(tmp_path)]
+    code, out, _ = run(capsys, *argv)
+    text = (tmp_path / "report.md").read_text()
+    assert code == 0 and f"    parcover {' '.join(argv)}" in text and (tmp_path / "gaps.csv").exists()
