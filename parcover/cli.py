@@ -140,9 +140,8 @@ def _report(args: argparse.Namespace) -> int:
         scheduler=args.scheduler,
         progress=False if args.no_progress else None,
         plots=not args.no_plots,
+        command=args.command_line,
     )
-    title, _, rest = path.read_text(encoding="utf-8").partition("\n")
-    path.write_text(f"{title}\n\nRegenerate with:\n\n    {args.command_line}\n{rest}", encoding="utf-8")
     print(f"wrote {path}")
     return 0
 

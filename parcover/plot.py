@@ -96,9 +96,7 @@ def plot_routes(
     """
     fig, ax = plt.subplots(figsize=(10, 6))
     _draw_routes(ax, instance, result, title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
+    _save(fig, path, dpi=130)
 
 
 def plot_side_by_side(
@@ -112,9 +110,7 @@ def plot_side_by_side(
     fig, axes = plt.subplots(1, len(results), figsize=(7.5 * len(results), 5), squeeze=False)
     for ax, result, title in zip(axes[0], results, titles):
         _draw_routes(ax, instance, result, title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _save(fig, path, dpi=110)
 
 
 def plot_frontier(
@@ -155,9 +151,7 @@ def plot_frontier(
     name = frontier.instance or "instance"
     ax.set_title(f"{name}: {frontier.routes_kind} frontier ({frontier.method})", fontsize=9)
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
+    _save(fig, path, dpi=130)
 
 
 def plot_gap_distribution(frame: Any, path: str | os.PathLike[str]) -> None:
@@ -172,6 +166,11 @@ def plot_gap_distribution(frame: Any, path: str | os.PathLike[str]) -> None:
     ax.set_ylabel("gap to optimum (%)")
     ax.set_title("Gap to the optimum per method (all questions)", fontsize=9)
     ax.grid(alpha=0.3, axis="y")
+    _save(fig, path, dpi=130)
+
+
+def _save(fig: Any, path: str | os.PathLike[str], *, dpi: int) -> None:
+    """Lay out, write and release a figure."""
     fig.tight_layout()
-    fig.savefig(path, dpi=130)
+    fig.savefig(path, dpi=dpi)
     plt.close(fig)

@@ -788,7 +788,8 @@ def render_report(
 ) -> str:
     """The text of report.md: header with the run's metadata, summary tables, the
     worst cases, plots."""
-    lines = ["# Optimality gaps", "", *_header_lines(meta), "", "## Summary", ""]
+    regenerate = ["Regenerate with:", "", f"    {meta['command']}", ""] if meta.get("command") else []
+    lines = ["# Optimality gaps", "", *regenerate, *_header_lines(meta), "", "## Summary", ""]
     lines += [
         "Gap = (value - optimum) / optimum, in percent, against the reference's proven optimum",
         "(or its best bound when it did not prove one). *At optimum*: rows whose value meets a",
@@ -924,6 +925,7 @@ def write_report(
     progress: bool | None = None,
     plots: bool = True,
     worst_cases: int = 3,
+    command: str | None = None,
 ) -> Path:
     """Run :func:`gaps` into ``out_dir`` (resuming from its gaps.csv) and write
     ``report.md``, ``meta.json`` and PNG plots there.
@@ -939,6 +941,9 @@ def write_report(
         Draw the PNGs with :mod:`parcover.plot` (:func:`draw_plots`).
     worst_cases
         How many of the largest gaps report.md lists and draws.
+    command
+        The command line that regenerates the report, shown at its top and kept in
+        meta.json.
 
     Returns
     -------
@@ -961,6 +966,8 @@ def write_report(
         methods=names,
         **{k: list(v) if isinstance(v, (list, tuple)) else v for k, v in options.items()},
     )
+    if command:
+        meta["command"] = command
     (out / "meta.json").write_text(json.dumps(meta, indent=2) + "\n", encoding="utf-8")
     drawn = []
     if plots:
