@@ -308,7 +308,9 @@ def _build_parser() -> argparse.ArgumentParser:
         "graph:n=8:seeds=0,1, grid:rows=3:cols=3, star:n=6",
     )
     p.add_argument("instances", nargs="+", help="instance files, folders or generator specs")
-    p.add_argument("--methods", default="paper,mst,nn,best", help="comma-separated methods (default: paper,mst,nn,best)")
+    p.add_argument("--methods", default="paper,mst,nn,best",
+                   help="comma-separated methods, each NAME or NAME:OPTION=VALUE such as best:iterations=100 "
+                   "(default: paper,mst,nn,best)")
     p.add_argument("--routes", default="paths,tours", help="comma-separated route kinds (default: paths,tours)")
     p.add_argument("--robots", default="2,3", help="robot limits for the makespan question (default: 2,3)")
     p.add_argument("--deadlines", default="least",

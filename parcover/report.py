@@ -79,7 +79,9 @@ workers) or on a Dask cluster (``scheduler=ADDRESS``); there a task's rows are
 written when the task ends.
 Methods travel with each task, so one registered with
 :func:`parcover.solve.register_method` is available to workers that can import its
-function. Rows are sorted by the order of the inputs (instances, route kinds,
+function. A method may be named with fixed options, ``NAME:OPTION=VALUE`` (e.g.
+``best:iterations=100``: a fixed number of rounds, so the rows depend on the seed and not
+on the machine's speed); the label is its name in the rows. Rows are sorted by the order of the inputs (instances, route kinds,
 questions, methods), never by completion order, so every executor gives the same
 rows (except ``seconds`` and ``reference_seconds``).
 
@@ -97,7 +99,8 @@ import os
 import platform
 import sys
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from functools import partial
 from pathlib import Path
 from typing import Any, Union
 
@@ -566,15 +569,41 @@ def _resolve_methods(methods: Sequence[str], reference: str) -> tuple[tuple[Meth
     from parcover.solve import available_methods
 
     registry = available_methods()
-    names = [methods] if isinstance(methods, str) else list(methods)
-    if not names:
+    labels = [methods] if isinstance(methods, str) else list(methods)
+    if not labels:
         raise InputError("No methods given.")
-    for name in [*names, reference]:
-        if name not in registry:
-            raise InputError(f"Unknown method {name!r}; expected one of {', '.join(sorted(registry))}.")
-    if len(set(names)) != len(names):
+    if len(set(labels)) != len(labels):
         raise InputError("A method is listed twice.")
-    return tuple(registry[n] for n in names), registry[reference]
+    return tuple(method_with_options(label, registry) for label in labels), method_with_options(reference, registry)
+
+
+def method_with_options(label: str, registry: dict[str, MethodInfo]) -> MethodInfo:
+    """The method a report label names: ``NAME`` or ``NAME:OPTION=VALUE[:...]``.
+
+    ``best:iterations=200`` is ``best`` with a fixed number of rounds, so that its rows
+    depend on the seed alone and not on the machine's speed. The label is the method's
+    name in the rows.
+    """
+    name, *settings = label.split(":")
+    if name not in registry:
+        raise InputError(f"Unknown method {name!r}; expected one of {', '.join(sorted(registry))}.")
+    info = registry[name]
+    if not settings:
+        return info
+    options: dict[str, int | float] = {}
+    for setting in settings:
+        key, _, text = setting.partition("=")
+        if key not in info.options or not text:
+            offered = ", ".join(info.options) or "none"
+            raise InputError(f"{label!r}: method {name!r} has no option {key!r} (options: {offered}).")
+        try:
+            options[key] = int(text)
+        except ValueError:
+            try:
+                options[key] = float(text)
+            except ValueError:
+                raise InputError(f"{label!r}: option {key!r} needs a number, not {text!r}.") from None
+    return replace(info, name=label, function=partial(info.function, **options))
 
 
 def _route_kinds(routes: Sequence[str]) -> tuple[RoutesKind, ...]:
@@ -861,7 +890,7 @@ def run_metadata(**settings: Any) -> dict[str, Any]:
 
     return {
         "parcover": parcover.__version__,
-        "versions": {name: _version(name) for name in ("highspy", "cvxpy", "numpy", "scipy", "pandas")},
+        "versions": {name: package_version(name) for name in ("highspy", "cvxpy", "numpy", "scipy", "pandas")},
         **settings,
         "machine": machine_info(),
     }
@@ -897,7 +926,8 @@ def _memory_gb() -> float | None:
     return round(int(total.split()[0]) / 2**20, 1)
 
 
-def _version(name: str) -> str | None:
+def package_version(name: str) -> str | None:
+    """The installed version of distribution ``name``, or None when it is not installed."""
     from importlib.metadata import PackageNotFoundError, version
 
     try:

@@ -11,7 +11,7 @@ import pytest
 
 from parcover import InputError, MethodInfo, Solution, Status, generate, report
 from parcover.problem import meets_deadline
-from parcover.solve import METHODS, available_methods, register_method
+from parcover.solve import METHODS, available_methods, register_method, solve
 
 TIMING = list(report.TIMING_COLUMNS)
 
@@ -142,6 +142,33 @@ def test_unknown_method_is_refused_before_any_work(tmp_path):
     with pytest.raises(InputError, match="Unknown method 'no-such'"):
         report.gaps("star:n=3", ["trivial", "no-such"], reference="brute", csv_path=csv_path)
     assert not csv_path.exists()
+
+
+def test_a_method_label_may_fix_its_options():
+    # best:iterations=5 is best with 5 rounds: its rows carry the label, and its value is the
+    # one solve gives for best with iterations=5 (no time limit, so the seed alone decides).
+    frame = report.gaps(
+        "random:n=6:seeds=0", ["best:iterations=5"], routes=("paths",), robots=(2,), deadlines=(),
+        reference="brute", time_limit=None, seed=0, workers=1, progress=False,
+    )
+    assert list(frame["method"]) == ["best:iterations=5"]
+    instance = report.parse_spec("random:n=6:seeds=0")[0]
+    direct = solve(instance, "paths", robots=2, method="best", iterations=5, seed=0)
+    assert frame["value"].iloc[0] == pytest.approx(direct.makespan)
+
+
+@pytest.mark.parametrize(
+    "label, message",
+    [
+        ("best:rounds=5", "has no option 'rounds'"),  # best's option is iterations
+        ("best:iterations=many", "needs a number"),  # not a number
+        ("mst:iterations=5", "has no option 'iterations'"),  # mst takes no options
+        ("nope:iterations=5", "Unknown method 'nope'"),  # no such method
+    ],
+)
+def test_bad_method_labels_are_one_line(label, message):
+    with pytest.raises(InputError, match=message):
+        report.gaps("star:n=3", [label], reference="brute", workers=1, progress=False)
 
 
 # ---------------------------------------------------------------- CSV, resume, executors

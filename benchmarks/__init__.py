@@ -1,0 +1,1 @@
+"""parcover's benchmarks: ``python -m benchmarks [--quick]`` writes ``reports/benchmarks.md``."""
