@@ -69,6 +69,15 @@ Build = Callable[[int, float | None], list[Route] | None]
 # A 2-opt move must shorten the tour by more than this (relative to its length),
 # so that zero distances (coincident KPOIs) and rounding never make it cycle.
 _TWO_OPT_RTOL = 1e-12
+# Fractions (in 32nds, van der Corput order) of the route where ``split`` first probes each k.
+_SPLIT_PROBES = np.array([0, 16, 8, 24, 4, 20, 12, 28, 2, 18, 10, 26, 6, 22, 14, 30,
+                          1, 17, 9, 25, 5, 21, 13, 29, 3, 19, 11, 27, 7, 23, 15, 31])
+# Length of the neighbour lists of 2-opt's candidate moves, and rows per block when building them.
+_NEIGHBOURS = 12
+_NEIGHBOUR_BLOCK = 256
+# Most first edges whose moves 2-opt evaluates in one numpy pass.
+_TWO_OPT_BLOCK = 512
+_TWO_OPT_FIRST = 16  # first edges per pass after a move (moves are dense in the first sweep)
 
 
 # --------------------------------------------------------------------------- methods
@@ -172,8 +181,8 @@ def k_nearest_insertion(
     after the last; ties to the earliest position). Robot limit ``K``:
     ``k = min(K, n)``. Deadline: the least ``k`` whose routes meet it.
 
-    ``O(n^2)`` time per ``k``; ``O(k n)`` memory for each route's distances to
-    all KPOIs.
+    ``O(n^2)`` time per ``k`` (:func:`_grow_insertion`); ``O(n)`` memory per robot
+    that takes two KPOIs or more (its distances to all KPOIs).
     """
     d = instance.distances
 
@@ -203,8 +212,10 @@ def tour_split(
       its ``<= c_max`` approach from the start get about equal length.
 
     Robot limit ``K``: ``k = min(K, n)`` (empty pieces are dropped). Deadline: the
-    least ``k`` in ``1..n`` whose pieces meet it (every ``k`` is tried, ``O(n)``
-    each). 2-opt stops at a local optimum or at ``time_limit``.
+    least ``k`` in ``1..n`` whose pieces meet it (every ``k`` is tried, all at
+    once, :meth:`_TourSplit.least_pieces`); when none does, the ``n`` pieces are
+    cut to the deadline. 2-opt (:func:`_two_opt`) stops at a local optimum or at
+    ``time_limit``.
     """
     d = instance.distances
     started = time.perf_counter()
@@ -214,11 +225,10 @@ def tour_split(
     if problem.robots is not None:
         return Solution(routes=split.routes(split.bounds(min(problem.robots, instance.n))))
     limit = _deadline(instance, problem)
-    for k in range(1, instance.n + 1):
-        bounds = split.bounds(k)
-        if meets_deadline(float(split.costs(bounds).max()), limit):
-            return Solution(routes=split.routes(bounds))
-    return Solution(routes=_meet_limit(d, split.routes(bounds), limit, problem.tours))
+    k = split.least_pieces(limit)
+    if k is not None:
+        return Solution(routes=split.routes(split.bounds(k)))
+    return Solution(routes=_meet_limit(d, split.routes(split.bounds(instance.n)), limit, problem.tours))
 
 
 # ------------------------------------------------------------ objective adaptations
@@ -404,22 +414,80 @@ def _nearest_until_limit(d: np.ndarray, limit: float, tours: bool) -> list[Route
     return routes
 
 
+class _NearestToStart:
+    """The uncovered KPOI nearest the start, in amortised ``O(1)``.
+
+    One stable sort of the start's row (ties to the lower KPOI index, as
+    ``argmin(d[0] + covered)`` breaks them) and a cursor that skips covered KPOIs.
+    """
+
+    def __init__(self, d: np.ndarray, covered: np.ndarray) -> None:
+        self.order = np.argsort(d[0, 1:], kind="stable") + 1
+        self.covered = covered  # 0 for uncovered KPOIs, inf otherwise (shared, updated by the caller)
+        self.cursor = 0
+
+    def next(self) -> int:
+        while self.covered[self.order[self.cursor]] != 0:
+            self.cursor += 1
+        return int(self.order[self.cursor])
+
+
+def _first_round(
+    first: np.ndarray,
+    first_costs: np.ndarray,
+    first_keys: np.ndarray,
+    routes: list[Route],
+    costs: list[float],
+    heap: list[tuple[float, int]],
+    covered: np.ndarray,
+) -> list[tuple[float, int]]:
+    """The first round of :func:`_grow_nearest` and :func:`_grow_insertion` at once.
+
+    All robots start at cost 0 and are popped in robot order; robot ``r`` takes the
+    uncovered KPOI nearest the start, the ``r``-th of ``first``. When every such
+    move leaves a positive key (checked by the caller), no robot is popped twice
+    before all have moved, so the round is these ``len(first)`` moves, in order.
+    Fills ``routes``, ``costs`` and ``covered`` and returns the new heap.
+    """
+    for r, (v, cost) in enumerate(zip(first.tolist(), first_costs.tolist())):
+        routes[r].append(v)
+        costs[r] = cost
+    covered[first] = np.inf
+    heap = [(key, r) for r, key in enumerate(first_keys.tolist())] + heap[len(first) :]
+    heapq.heapify(heap)
+    return heap
+
+
 def _grow_nearest(
     d: np.ndarray, k: int, key_tours: bool, limit: float | None = None
 ) -> list[Route] | None:
     """``k`` robots; the cheapest (path cost, plus the return if ``key_tours``) appends
     its nearest uncovered KPOI. Empty routes are dropped; ``None`` as soon as a
-    robot's cost (as ordered) breaks ``limit``."""
+    robot's cost (as ordered) breaks ``limit``.
+
+    A robot still at the start takes the uncovered KPOI nearest the start
+    (:class:`_NearestToStart`, amortised ``O(1)``), any other one a masked ``argmin``
+    over its end's row (``O(n)``): ``O(n^2)`` time in all, and far less when many
+    robots take one KPOI each (the deadline search tries ``k`` up to ``n``)."""
     n = d.shape[0] - 1
     covered = np.zeros(n + 1)
     covered[0] = np.inf
+    from_start = _NearestToStart(d, covered)
     routes: list[Route] = [[] for _ in range(k)]
     ends = [0] * k
     costs = [0.0] * k
     heap = [(0.0, r) for r in range(k)]
-    for _ in range(n):
+    first = from_start.order[:k]
+    first_costs = d[0, first]
+    first_keys = first_costs + d[first, 0] if key_tours else first_costs
+    if (first_keys > 0).all():  # robot r takes the r-th KPOI nearest the start (_first_round)
+        if limit is not None and not meets_deadline(first_keys, limit).all():
+            return None
+        heap = _first_round(first, first_costs, first_keys, routes, costs, heap, covered)
+        ends[: len(first)] = first.tolist()
+    for _ in range(n - sum(map(len, routes))):
         _, r = heapq.heappop(heap)
-        v = int(np.argmin(d[ends[r]] + covered))
+        v = int(np.argmin(d[ends[r]] + covered)) if routes[r] else from_start.next()
         costs[r] += float(d[ends[r], v])
         routes[r].append(v)
         ends[r] = v
@@ -434,30 +502,53 @@ def _grow_nearest(
 def _grow_insertion(d: np.ndarray, k: int, tours: bool, limit: float | None = None) -> list[Route] | None:
     """``k`` robots; the cheapest inserts the uncovered KPOI nearest its route at the
     cheapest position ([1]_, run on ``k`` routes). Empty routes are dropped; ``None``
-    as soon as a route breaks ``limit``."""
+    as soon as a route breaks ``limit``.
+
+    A robot still at the start takes the uncovered KPOI nearest the start
+    (:class:`_NearestToStart`). A robot's distances to every KPOI (the minimum of
+    its nodes' rows) are kept from its second step on and updated by one
+    ``minimum`` per insertion, so each later step is one masked ``argmin``
+    (``O(n)``) plus the insertion costs along its route: ``O(n^2)`` time, and
+    ``O(n)`` memory per robot that takes two KPOIs or more."""
     n = d.shape[0] - 1
     covered = np.zeros(n + 1)
     covered[0] = np.inf
-    # nearest[r]: distance of every KPOI to route r; rows are filled on first use
-    # (an empty route's row is d[0]), so untouched rows cost no memory.
-    nearest = np.empty((k, n + 1))
+    from_start = _NearestToStart(d, covered)
+    nearest: dict[int, np.ndarray] = {}  # robot -> distance of every KPOI to its route
     routes: list[Route] = [[] for _ in range(k)]
     costs = [0.0] * k
     heap = [(0.0, r) for r in range(k)]
-    for _ in range(n):
+    first = from_start.order[:k]
+    first_costs = d[0, first] + d[first, 0] - d[0, 0] if tours else d[0, first]
+    if (first_costs > 0).all():  # robot r takes the r-th KPOI nearest the start (_first_round)
+        if limit is not None and not meets_deadline(first_costs, limit).all():
+            return None
+        heap = _first_round(first, first_costs, first_costs, routes, costs, heap, covered)
+    masked = np.empty(n + 1)
+    for _ in range(n - sum(map(len, routes))):
         _, r = heapq.heappop(heap)
-        v = int(np.argmin((nearest[r] if routes[r] else d[0]) + covered))
-        nodes = np.array([0, *routes[r], 0] if tours else [0, *routes[r]], dtype=np.intp)
-        growth = d[nodes[:-1], v] + d[v, nodes[1:]] - d[nodes[:-1], nodes[1:]]
-        if not tours:
-            growth = np.append(growth, d[nodes[-1], v])
-        position = int(np.argmin(growth))
-        routes[r].insert(position, v)
-        costs[r] += float(growth[position])
+        route = routes[r]
+        if route:
+            if r not in nearest:  # its first KPOI came from the start: the route is that KPOI alone
+                nearest[r] = np.minimum(d[0], d[route[0]])
+            v = int(np.add(nearest[r], covered, out=masked).argmin())
+            nodes = np.array([0, *route, 0] if tours else [0, *route], dtype=np.intp)
+            growth = d[nodes[:-1], v] + d[v, nodes[1:]] - d[nodes[:-1], nodes[1:]]
+            if not tours:
+                growth = np.append(growth, d[nodes[-1], v])
+            position = int(np.argmin(growth))
+            grown = float(growth[position])
+        else:
+            v = from_start.next()
+            position = 0
+            grown = float(d[0, v] + d[v, 0] - d[0, 0]) if tours else float(d[0, v])
+        route.insert(position, v)
+        costs[r] += grown
         if limit is not None and not meets_deadline(costs[r], limit):
             return None
         covered[v] = np.inf
-        np.minimum(nearest[r] if len(routes[r]) > 1 else d[0], d[v], out=nearest[r])
+        if r in nearest:
+            np.minimum(nearest[r], d[v], out=nearest[r])
         heapq.heappush(heap, (costs[r], r))
     return [route for route in routes if route]
 
@@ -467,46 +558,170 @@ def _two_opt(
 ) -> Route:
     """2-opt [3]_ on a tour (or a path with a fixed start and a free end).
 
-    Best-improvement per first edge: for each edge ``(a, b)`` of the route, the
-    reversal of ``b..c`` with the largest gain ``d(a,b) + d(c,e) - d(a,c) - d(b,e)``
-    is applied; sweeps repeat until none improves or ``time_limit`` is reached. For
-    a path, the edge after the last KPOI leads to a free end of cost 0.
+    Best-improvement per first edge: for each edge ``(a, b)`` of the route in turn,
+    the reversal of ``b..c`` with the largest gain ``d(a,b) + d(c,e) - d(a,c) -
+    d(b,e)`` is applied (ties to the first ``c`` along the route) when the gain
+    exceeds ``_TWO_OPT_RTOL`` times the route length; sweeps repeat until none
+    does, or until ``time_limit``. For a path, the edge after the last KPOI leads
+    to a free end of cost 0. The moves are found in blocks of consecutive first
+    edges (:class:`_TwoOpt`); the move applied is always the one this sequential
+    rule applies.
     """
-    sequence = np.array([0, *order, 0], dtype=np.intp)  # the last 0 is the free end for paths
-    m = len(sequence)
-    edges = d[sequence[:-1], sequence[1:]].astype(float)
-    if not tours:
-        edges[-1] = 0.0
+    state = _TwoOpt(d, order, tours)
     improved = True
     while improved:
         improved = False
-        for i in range(m - 3):
+        i, size = 0, _TWO_OPT_FIRST
+        while i < state.last - 1:
             if time_limit is not None and time.perf_counter() - started > time_limit:
-                return [int(v) for v in sequence[1:-1]]
-            a, b = sequence[i], sequence[i + 1]
-            c, e = sequence[i + 2 : m - 1], sequence[i + 3 : m]
-            new_second = d[b, e]
-            if not tours:
-                new_second = new_second.copy()
-                new_second[-1] = 0.0
-            gain = edges[i] + edges[i + 2 : m - 1] - d[a, c] - new_second
-            j = int(np.argmax(gain))
-            if gain[j] <= _TWO_OPT_RTOL * max(float(edges.sum()), 1.0):
+                return state.route()
+            stop = min(i + size, state.last - 1)
+            move = state.first_move(i, stop)
+            if move is None:
+                i, size = stop, min(2 * size, _TWO_OPT_BLOCK)
                 continue
-            j += i + 2  # reverse sequence[i + 1 .. j]
-            sequence[i + 1 : j + 1] = sequence[i + 1 : j + 1][::-1].copy()
-            edges[i + 1 : j] = edges[i + 1 : j][::-1].copy()
-            edges[i] = d[sequence[i], sequence[i + 1]]
-            edges[j] = d[sequence[j], sequence[j + 1]] if (tours or j < m - 2) else 0.0
+            state.reverse(*move)
             improved = True
-    return [int(v) for v in sequence[1:-1]]
+            i, size = move[0] + 1, _TWO_OPT_FIRST
+    return state.route()
+
+
+class _TwoOpt:
+    """A route under 2-opt, and its best move for each first edge of a block.
+
+    Only candidate moves are evaluated: a positive gain needs ``d(a,c) < d(a,b)`` or
+    ``d(b,e) < d(c,e)``, so ``c`` is nearer to ``a`` than ``b`` is, or ``b`` is nearer
+    to ``e`` than ``e``'s predecessor on the route is (neighbour lists,
+    :class:`_Neighbours`); the move through the last edge is always a candidate.
+    Every other move has a gain ``<= 0`` (up to rounding far below the
+    tolerance), so the best candidate is the best move, and its gain is the same
+    floating-point expression. The lists serve both tests because
+    ``Instance.distances`` is symmetric.
+    """
+
+    def __init__(self, d: np.ndarray, order: Route, tours: bool) -> None:
+        self.d = d
+        self.tours = tours
+        self.sequence = np.array([0, *order, 0], dtype=np.intp)  # the last 0 is a path's free end
+        m = len(self.sequence)
+        self.last = m - 2  # the move whose e is the final node
+        self.edges = d[self.sequence[:-1], self.sequence[1:]].astype(float)
+        if not tours:
+            self.edges[-1] = 0.0
+        self.near = _Neighbours(d)
+        # position[x]: index of KPOI x in `sequence`; entering[x]: length of the edge into it.
+        self.position = np.full(d.shape[0], -1, dtype=np.intp)
+        self.position[self.sequence[1:-1]] = np.arange(1, m - 1)
+        self.entering = np.full(d.shape[0], -np.inf)
+        self.entering[self.sequence[1:-1]] = self.edges[: m - 2]
+        self._update_far()
+
+    def _update_far(self) -> None:
+        """The KPOIs whose entering edge reaches past their neighbour list."""
+        self.far = (self.entering > self.near.radius).nonzero()[0]
+
+    def route(self) -> Route:
+        """The KPOIs in route order (start and end left out)."""
+        return [int(v) for v in self.sequence[1:-1]]
+
+    def first_move(self, start: int, stop: int) -> tuple[int, int] | None:
+        """The first edge ``i`` in ``start..stop-1`` with an improving move, and the
+        end ``j`` of the reversal ``sequence[i+1..j]``; ``None`` when there is none."""
+        d, seq, edges = self.d, self.sequence, self.edges
+        first = np.arange(start, stop)
+        a, b, ab = seq[first], seq[first + 1], edges[first]
+        rows, cs = self.near.within_rows(a, ab)
+        held_rows, es = self.near.holding_rows(b)
+        far = self.far
+        rows_e = np.concatenate((held_rows, np.repeat(np.arange(len(first)), len(far))))
+        es = np.concatenate((es, np.tile(far, len(first))))
+        keep = d[b[rows_e], es] < self.entering[es]
+        rows = np.concatenate((rows, rows_e[keep], np.arange(len(first))))
+        js = np.concatenate((self.position[cs], self.position[es[keep]] - 1, np.full(len(first), self.last)))
+        keep = js >= first[rows] + 2
+        rows, js = rows[keep], js[keep]
+        new_second = d[b[rows], seq[js + 1]]
+        if not self.tours:
+            new_second[js == self.last] = 0.0
+        gain = ab[rows] + edges[js] - d[a[rows], seq[js]] - new_second
+        if not (gain > 0).any():
+            return None
+        good = gain > _TWO_OPT_RTOL * max(float(edges.sum()), 1.0)
+        if not good.any():
+            return None
+        row = rows[good].min()
+        mine = rows == row
+        top = gain[mine].max()
+        return int(first[row]), int(js[mine][gain[mine] == top].min())
+
+    def reverse(self, i: int, j: int) -> None:
+        """Reverse ``sequence[i+1..j]`` and update the edges, positions and entering edges."""
+        d, seq, edges = self.d, self.sequence, self.edges
+        seq[i + 1 : j + 1] = seq[i + 1 : j + 1][::-1].copy()
+        edges[i + 1 : j] = edges[i + 1 : j][::-1].copy()
+        edges[i] = d[seq[i], seq[i + 1]]
+        edges[j] = d[seq[j], seq[j + 1]] if (self.tours or j < self.last) else 0.0
+        self.position[seq[i + 1 : j + 1]] = np.arange(i + 1, j + 1)
+        self.entering[seq[i + 1 : j + 2]] = edges[i : j + 1]
+        self.entering[0] = -np.inf
+        self._update_far()
+
+
+class _Neighbours:
+    """Each row's ``_NEIGHBOURS`` nearest columns, for the candidate moves of :class:`_TwoOpt`.
+
+    ``radius[x]`` is the next distance in row ``x`` after its list: every ``y`` with
+    ``matrix[x, y] < radius[x]`` is in the list of ``x``. Built in blocks of rows with
+    ``argpartition``: ``O(n^2)`` time, ``O(n)`` memory per row of a block.
+    """
+
+    def __init__(self, matrix: np.ndarray) -> None:
+        size = matrix.shape[0]
+        count = min(_NEIGHBOURS, size - 1)
+        self.matrix = matrix
+        self.lists = np.empty((size, count), dtype=np.intp)
+        self.dist = np.empty((size, count))
+        self.radius = np.empty(size)
+        for top in range(0, size, _NEIGHBOUR_BLOCK):
+            rows = np.asarray(matrix[top : top + _NEIGHBOUR_BLOCK])
+            block = slice(top, top + len(rows))
+            parted = np.argpartition(rows, count, axis=1)  # count <= size - 1: column `count` exists
+            self.lists[block] = parted[:, :count]
+            self.dist[block] = np.take_along_axis(rows, parted[:, :count], 1)
+            self.radius[block] = np.take_along_axis(rows, parted[:, count : count + 1], 1)[:, 0]
+        # The reverse lists (column y -> the rows whose list holds y), as CSR.
+        flat = self.lists.ravel()
+        by_column = np.argsort(flat, kind="stable")
+        self.holders = np.repeat(np.arange(size), count)[by_column]
+        self.holder_start = np.searchsorted(flat[by_column], np.arange(size + 1))
+
+    def within_rows(self, xs: np.ndarray, rs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Pairs ``(k, y)`` with ``matrix[xs[k], y] < rs[k]``, as two arrays."""
+        short = rs <= self.radius[xs]
+        hit = short[:, None] & (self.dist[xs] < rs[:, None])
+        rows, cols = hit.nonzero()
+        ys = self.lists[xs[rows], cols]
+        extra_rows, extra_ys = [rows], [ys]
+        for k in np.flatnonzero(~short):
+            found = (self.matrix[xs[k]] < rs[k]).nonzero()[0]
+            extra_rows.append(np.full(len(found), k))
+            extra_ys.append(found)
+        return np.concatenate(extra_rows), np.concatenate(extra_ys)
+
+    def holding_rows(self, ys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Pairs ``(k, x)`` with column ``ys[k]`` in the list of row ``x``, as two arrays."""
+        begin, end = self.holder_start[ys], self.holder_start[ys + 1]
+        counts = end - begin
+        rows = np.repeat(np.arange(len(ys)), counts)
+        offsets = np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
+        return rows, self.holders[np.repeat(begin, counts) + offsets]
 
 
 class _TourSplit:
     """Cuts of one route through all KPOIs into consecutive pieces (k-SPLITOUR [2]_).
 
-    Piece costs come from prefix lengths in ``O(k)`` numpy work, so trying every
-    ``k`` costs ``O(n^2)`` elementary operations but only ``O(n)`` numpy calls.
+    Piece costs come from prefix lengths along the route, so each piece costs
+    ``O(1)`` (a binary search for its boundary aside).
     """
 
     def __init__(self, d: np.ndarray, order: Route, tours: bool) -> None:
@@ -530,11 +745,62 @@ class _TourSplit:
         bounds = np.concatenate(([0], np.maximum.accumulate(cuts), [len(self.order)]))
         return bounds[np.concatenate(([True], np.diff(bounds) > 0))]
 
-    def costs(self, bounds: np.ndarray) -> np.ndarray:
-        """Cost of each piece, served from the start (and back, for tours)."""
-        first, last = self.order[bounds[:-1]], self.order[bounds[1:] - 1]
-        cost = self.d[0, first] + self.prefix[bounds[1:] - 1] - self.prefix[bounds[:-1]]
-        return cost + self.d[last, 0] if self.tours else cost
+    def _boundary(self, j: np.ndarray, k: np.ndarray) -> np.ndarray:
+        """Boundary ``b_j`` of :meth:`bounds` (``0 <= j <= k``, empty pieces kept),
+        elementwise, by the same floating-point expressions."""
+        n = len(self.order)
+        step = np.where(j > 0, j, 1) if self.spare < 0 else j  # decreasing thresholds: max is at j = 1
+        cut = np.searchsorted(self.prefix, self.c_max + step / k * self.spare, side="right")
+        return np.where(j == 0, 0, np.where(j == k, n, cut))
+
+    def _misses(self, j: np.ndarray, k: np.ndarray, limit: float) -> np.ndarray:
+        """Whether piece ``j`` of the ``k`` pieces is non-empty and misses ``limit``
+        (elementwise). A piece ``[a, b)`` costs ``d(s, order[a])`` plus its length
+        along the route (``prefix[b-1] - prefix[a]``), plus ``d(order[b-1], s)``
+        for tours."""
+        j, k = np.broadcast_arrays(j, k)
+        a, b = self._boundary(j, k), self._boundary(np.minimum(j + 1, k), k)
+        piece = (j < k) & (a < b)
+        a, b = a[piece], b[piece]
+        cost = self.d[0, self.order[a]] + self.prefix[b - 1] - self.prefix[a]
+        if self.tours:
+            cost = cost + self.d[self.order[b - 1], 0]
+        missed = np.zeros(piece.shape, dtype=bool)
+        missed[piece] = ~meets_deadline(cost, limit)
+        return missed
+
+    def least_pieces(self, limit: float) -> int | None:
+        """The least ``k`` in ``1..n`` whose pieces all meet ``limit`` (``None`` if none).
+
+        All ``k`` are tested together, and a ``k`` is dropped at the first piece
+        found to miss ``limit``: first probes, the pieces at 32 fractions of the
+        route (costly pieces cluster along it) and those about the 32 KPOIs
+        costliest to serve alone, then every piece in order, 8, 16, 32, ... pieces
+        per pass. After a pass every ``k`` up to the pieces tested is
+        decided, so the least surviving one is the answer. When most ``k`` fail at
+        a probe (paths at ``c_max``, typically) far fewer than the ``n^2 / 2``
+        pieces of all ``k`` are evaluated; otherwise up to all of them.
+        """
+        alive = np.arange(1, len(self.order) + 1)
+        k = alive[:, None]
+        probes = [k * _SPLIT_PROBES // 32]
+        if self.spare > 0:
+            # The pieces that hold the KPOIs costliest to serve alone (about: any piece may be probed).
+            alone = self.d[0, self.order] + (self.d[self.order, 0] if self.tours else 0.0)
+            hot = np.argsort(-alone, kind="stable")[: len(_SPLIT_PROBES)]
+            share = (self.prefix[hot] - self.c_max) / self.spare
+            probes.append(np.clip(np.ceil(share[None, :] * k).astype(np.intp) - 1, 0, k - 1))
+        alive = alive[~self._misses(np.hstack(probes), k, limit).any(axis=1)]
+        done, step = 0, 8
+        while alive.size:
+            j = np.arange(done, done + step)
+            alive = alive[~self._misses(j[None, :], alive[:, None], limit).any(axis=1)]
+            done += step
+            decided = alive[alive <= done]
+            if decided.size:
+                return int(decided[0])
+            alive, step = alive[alive > done], 2 * step
+        return None
 
     def routes(self, bounds: np.ndarray) -> list[Route]:
         """The pieces as routes."""

@@ -1,0 +1,141 @@
+"""The min-max multiple-TSP literature: the Necula cells, our value and certified bound.
+
+Issue 7, section 3. Instances eil51, berlin52, eil76 and rat99 (TSPLIB, ``instances/tsplib/``,
+read with exact Euclidean distances, node 1 the start) with m = 2, 3, 5, 7 tours (Necula,
+Breaban and Raschip, ICTAI 2015). For each cell:
+
+- our value: ``parcover.solve(..., method="best")`` with :data:`BEST_SECONDS`;
+- our certified lower bound: the largest of ``2 c_max``, the spanning-tree bound
+  (:func:`milp.arcflow.makespan_lower_bound`) and the column-generation bound
+  (:func:`milp.colgen.makespan_bound`, at most :data:`BOUND_SECONDS`, or
+  :data:`FEW_ROBOTS_BOUND_SECONDS` for m <= 3; skipped when the
+  value already meets the simpler bounds);
+- proven optimal when the value is within 1e-6 relative of the bound;
+- beside the published CPLEX lower / upper bounds (runs of up to 168 hours) and the best
+  known value (``instances/mtsp/minmax_best_known_summary.csv``).
+
+The issue allows 10 minutes per cell; this section spends at most 30-45 s per cell
+(at most 10 minutes for the 16 cells), so the report can be regenerated in one sitting.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pandas as pd
+
+import parcover
+from benchmarks.common import ROOT, Config, Section, markdown_table
+from milp import arcflow, colgen
+from milp.merge import merge_zero_distances
+from parcover.io import read_instance
+
+INSTANCES = ("eil51", "berlin52", "eil76", "rat99")
+ROBOTS = (2, 3, 5, 7)
+QUICK_CELLS = (("eil51", 5),)
+#: Seconds per cell for ``best`` and for the column-generation bound (full run); the
+#: bound gets more time with m <= 3 tours, where 2 c_max is far from the optimum.
+BEST_SECONDS, BOUND_SECONDS, FEW_ROBOTS_BOUND_SECONDS = 15.0, 15.0, 30.0
+QUICK_BEST_SECONDS, QUICK_BOUND_SECONDS = 3.0, 3.0
+#: Relative tolerance for "proven optimal".
+PROVEN_TOL = 1e-6
+REFERENCE = ROOT / "instances" / "mtsp" / "minmax_best_known_summary.csv"
+
+
+def reference_values() -> pd.DataFrame:
+    """Published CPLEX bounds and best-known values per (instance, m)."""
+    table = pd.read_csv(REFERENCE)
+    table = table.rename(columns={
+        "necula_cplex_lower_bound": "cplex_lb", "necula_cplex_upper_bound": "cplex_ub",
+        "best_verified_max_route_unrounded": "best_known"})
+    return table[["instance", "m", "cplex_lb", "cplex_ub", "best_known"]]
+
+
+def solve_cell(name: str, m: int, best_seconds: float, bound_seconds: float) -> dict:
+    """Our value, bounds and times on one cell (tours, ``m`` robots)."""
+    inst = read_instance(ROOT / "instances" / "tsplib" / f"{name}.tsp")
+    D = np.array(inst.distances)
+    began = time.perf_counter()
+    result = parcover.solve(inst, routes="tours", robots=m, method="best", time_limit=best_seconds)
+    best_time = time.perf_counter() - began
+    value = float(result.makespan)
+    trivial = 2.0 * float(D[0, 1:].max())
+    tree = arcflow.makespan_lower_bound(merge_zero_distances(D).D, m, tours=True)
+    bound = max(trivial, tree, float(result.bound or 0.0))
+    cg, cg_time = np.nan, 0.0
+    if value > bound * (1 + PROVEN_TOL):
+        info = colgen.makespan_bound(D, m, tours=True, upper=value, time_limit=bound_seconds)
+        cg, cg_time = info.bound, info.seconds
+        bound = max(bound, cg)
+    return {"instance": name, "m": m, "kpois": inst.n, "value": value, "2 c_max": trivial,
+            "tree bound": tree, "colgen bound": cg, "bound": bound,
+            "proven": bool(value <= bound * (1 + PROVEN_TOL)),
+            "best s": best_time, "bound s": cg_time}
+
+
+def cells_table(rows: list[dict]) -> pd.DataFrame:
+    """Our rows joined with the published values, with the comparisons."""
+    frame = pd.DataFrame(rows).merge(reference_values(), on=["instance", "m"], how="left")
+    frame["bound >= CPLEX"] = frame["bound"] >= frame["cplex_lb"]
+    frame["value vs best %"] = 100.0 * (frame["value"] / frame["best_known"] - 1.0)
+    return frame
+
+
+def targets(frame: pd.DataFrame, cells: int) -> list[str]:
+    """The issue's three targets with the figures reached (out of all 16 cells)."""
+    above = int(frame["bound >= CPLEX"].sum())
+    close = int((frame["value vs best %"] <= 0.5).sum())
+    proven = int(frame["proven"].sum())
+    scope = "" if len(frame) == cells else f" (only {len(frame)} cell(s) run: quick mode)"
+    return [
+        f"mTSP literature: certified lower bound >= CPLEX's on all 16 cells: "
+        f"{'met' if above == cells else 'not met'}, {above}/{cells}{scope}",
+        f"mTSP literature: value within 0.5% of best known: "
+        f"{'met' if close == cells else 'not met'}, {close}/{cells}{scope}",
+        f"mTSP literature: 8 or more cells proven optimal: "
+        f"{'met' if proven >= 8 else 'not met'}, {proven}{scope}",
+    ]
+
+
+def bound_seconds(config: Config, m: int) -> float:
+    """Seconds for the column-generation bound on a cell with ``m`` tours."""
+    if config.quick:
+        return QUICK_BOUND_SECONDS
+    return FEW_ROBOTS_BOUND_SECONDS if m <= 3 else BOUND_SECONDS
+
+
+def run(config: Config) -> Section:
+    """Solve and bound the Necula cells (one small cell with ``config.quick``)."""
+    cells = QUICK_CELLS if config.quick else tuple((i, m) for i in INSTANCES for m in ROBOTS)
+    best_s = QUICK_BEST_SECONDS if config.quick else BEST_SECONDS
+    rows = []
+    for name, m in cells:
+        config.log(f"[mtsp_literature] {name} m={m}")
+        rows.append(solve_cell(name, m, best_s, bound_seconds(config, m)))
+    frame = cells_table(rows)
+    shown = frame[["instance", "m", "value", "bound", "proven", "cplex_lb", "cplex_ub",
+                   "best_known", "bound >= CPLEX", "value vs best %", "2 c_max", "tree bound",
+                   "colgen bound", "best s", "bound s"]]
+    budgets = sorted({bound_seconds(config, m) for _, m in cells})
+    longest = best_s + budgets[-1]
+    markdown = "\n".join([
+        "Min-max multiple TSP with tours (Necula et al. 2015 cells: TSPLIB instances with exact "
+        "Euclidean distances, node 1 the start). `value`: `parcover.solve(method=\"best\")` with "
+        f"{best_s:g} s; `bound`: our certified lower bound, the largest of `2 c_max`, the "
+        "spanning-tree bound and the column-generation bound (`milp.colgen`: set covering over "
+        "q-routes with 2-cycle elimination, Farley's bound, bisection on the makespan; "
+        f"{' / '.join(f'{b:g}' for b in budgets)} s"
+        + ("" if config.quick else " for m >= 5 / m <= 3")
+        + "; run only when the value is above the other bounds). `proven`: value within 1e-6 "
+        "relative of the bound. `cplex_lb` / `cplex_ub`: Necula's published CPLEX bounds (runs "
+        "of up to 168 hours); `best_known`: best verified value in `instances/mtsp/` (LKH-3 and "
+        "Necula tours, recomputed). The CPLEX bounds are published to 2 decimals.",
+        "",
+        f"Time: at most about {longest:g} s per cell (the issue allows 10 minutes per cell); "
+        f"{len(cells)} cell(s) here, {frame['best s'].sum() + frame['bound s'].sum():.0f} s in all.",
+        "",
+        markdown_table(shown, floatfmt=".5g"),
+    ])
+    return Section("The min-max multiple-TSP literature (Necula cells, tours)", markdown,
+                   tables={"mtsp_literature": frame}, targets=targets(frame, 16))

@@ -1,0 +1,448 @@
+r"""Certified lower bounds from a route-based LP solved by column generation.
+
+A lower bound on the least makespan with at most ``k`` routes, and on the fewest routes
+within a deadline, for paths and tours from the start 0 of a metric ``D``. The bound is
+*certified*: it stays valid when column generation stops early (time limit), because
+every number it rests on comes from an exact pricing over a relaxed route set.
+
+Model
+-----
+For a trial makespan :math:`T` let :math:`\mathcal R(T)` be the routes of cost
+:math:`\le T`, :math:`a_{ir}` the number of visits of KPOI :math:`i` by route :math:`r`,
+and
+
+.. math::
+    (1)\quad z(T) = \min \sum_r \lambda_r \quad\text{s.t.}\quad
+    (2)\ \sum_r a_{ir} \lambda_r \ge 1 \ (i = 1..n), \qquad (3)\ \lambda \ge 0,
+
+the LP relaxation of set covering. Any solution with at most ``k`` routes within
+:math:`T` is an integer point of (2)-(3) with objective :math:`\le k`, so
+:math:`z(T) > k` proves the least makespan is above :math:`T`; and
+:math:`\lceil z(U) \rceil` robots are needed to meet a deadline :math:`U`.
+
+Relaxed routes (pricing)
+------------------------
+Routes are priced over a larger set :math:`\mathcal R'(T) \supseteq \mathcal R(T)` in
+which the optimisation is exact: *q-routes* with 2-cycle elimination (Christofides,
+Mingozzi and Toth 1981, "Exact algorithms for the vehicle routing problem, based on
+spanning tree and shortest path relaxations", Math. Prog. 20): walks from 0 that may
+revisit a KPOI, but never as ``i -> j -> i``. Lengths are discretised on a grid
+:math:`\delta`: :math:`d'_{ij} = \lfloor d_{ij}/\delta \rfloor` (rounded *down*), budget
+:math:`L = \lfloor T/\delta \rfloor`, return :math:`r'_j = d'_{j0}` (tours) or 0 (paths).
+A walk is in :math:`\mathcal R'(T)` when every prefix ending at ``j`` with discretised
+length :math:`\ell` has :math:`\ell + r'_j \le L`. A real route of cost :math:`\le T`
+qualifies: by the triangle inequality each prefix plus the way back costs at most
+:math:`T`, rounding down only shortens, and an integer at most :math:`T/\delta` is at
+most :math:`L`. Using :math:`\mathcal R'` can only lower (1), so its LP value
+:math:`z'(T) \le z(T)` is still a bound. The pricing is a dynamic programme over
+(discretised length, last node) keeping the best and second-best predecessor (2-cycle
+elimination), vectorised with numpy over whole blocks of lengths (ng-routes,
+Baldacci, Mingozzi and Roberti 2011, "New route relaxation and pricing strategies for
+the vehicle routing problem", Oper. Res. 59, would be tighter; not implemented).
+
+Certificate (Farley's bound)
+----------------------------
+The dual of (1)-(3) is :math:`\max \sum_i \pi_i` s.t. :math:`\sum_i a_{ir}\pi_i \le 1`
+for all :math:`r \in \mathcal R'`, :math:`\pi \ge 0`. For *any* :math:`\pi \ge 0`
+(here: the restricted master's duals, clipped at 0) let
+:math:`M = \max_{r \in \mathcal R'} \sum_i a_{ir}\pi_i`, computed exactly by the pricing.
+Then :math:`\pi / M` is dual feasible, hence
+
+.. math::
+    (4)\quad z'(T) \ge \sum_i \pi_i / M,
+
+whatever columns the restricted master holds (Farley 1990, "A note on bounding a class
+of linear programming problems, including cutting stock problems", Oper. Res. 38;
+equal to the Lagrangian bound LP value + k x most negative reduced cost at convergence).
+Column generation adds the priced walks with :math:`\sum a_{ir}\pi_i > 1` and stops as
+soon as (4) exceeds ``k`` (``T`` proven infeasible), the restricted master's value is
+at most ``k`` (nothing can be proven at ``T``: the master's value is an upper bound on
+:math:`z'`), or time runs out. The pricing duals are smoothed towards the best
+certificate so far (Wentges 1997, "Weighted Dantzig-Wolfe decomposition for linear
+mixed-integer programming", Int. Trans. Oper. Res. 4): fewer iterations, and (4) holds
+for the smoothed duals too, since it holds for any :math:`\pi \ge 0`.
+
+Min-max bound: bisection on :math:`T` between the known lower bound (``c_max`` /
+``2 c_max`` and :func:`milp.arcflow.makespan_lower_bound`) and the caller's upper bound;
+a ``T`` proven infeasible becomes the new lower end. The grid is fixed for the whole
+bisection (:math:`\delta` from the upper bound), so columns carry over between steps.
+
+Pre-processing: KPOIs at distance 0 are merged and KPOIs at the start dropped
+(:mod:`milp.merge`); shortcutting repeated classes turns any solution of the original
+into one of the merged instance with no longer routes, so bounds carry back. The grid
+is never coarser than the smallest positive distance, so every arc has
+:math:`d' \ge 1` and the programme has no zero-length cycles; when that would need more
+than ``MAX_CELLS`` grid cells the trivial bound is returned.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import highspy
+import numpy as np
+
+from milp.arcflow import makespan_lower_bound as tree_lower_bound
+from milp.arcflow import robots_lower_bound as tree_robots_bound
+from milp.merge import merge_zero_distances
+from milp.routes import check_distance_matrix, least_makespan
+
+#: Grid steps over the upper bound: :math:`\delta = \text{upper} / \text{GRID}`.
+GRID = 1000
+#: Largest ``(L + 1) x (n + 1)`` table of the pricing programme.
+MAX_CELLS = 2_000_000
+#: Relative tolerance of the certificate (float round-off in sums of duals).
+CERT_TOL = 1e-9
+#: Weight of the stability center in the pricing duals (0: plain column generation).
+SMOOTHING = 0.5
+#: Bisection stops when the interval is below this fraction of the upper end.
+BISECTION_TOL = 1e-4
+
+
+@dataclass
+class BoundInfo:
+    """What a bound computation did.
+
+    Attributes
+    ----------
+    bound : float
+        The certified bound (makespan) or its float value before rounding up (robots).
+    trivial : float
+        The bound it started from (``c_max`` / ``2 c_max`` and the spanning-tree bound).
+    steps : list of tuple
+        ``(T, proven, farley_bound, master_value, iterations)`` per trial makespan.
+    columns : int
+        Columns generated in all.
+    seconds : float
+        Wall-clock time.
+    message : str
+        Why it stopped.
+    """
+
+    bound: float
+    trivial: float
+    steps: list[tuple[float, bool, float, float, int]] = field(default_factory=list)
+    columns: int = 0
+    seconds: float = 0.0
+    message: str = ""
+
+
+class _Pricer:
+    """Exact pricing over discretised q-routes with 2-cycle elimination (see module doc).
+
+    Parameters
+    ----------
+    D : numpy.ndarray
+        Merged distance matrix (no zero off-diagonal distance).
+    tours : bool
+        Route kind.
+    delta : float
+        Grid step, at most the smallest positive distance / (1 + 1e-6).
+    """
+
+    def __init__(self, D: np.ndarray, *, tours: bool, delta: float) -> None:
+        self.n = len(D) - 1
+        self.dd = np.maximum(np.floor(D / delta - 1e-9), 0).astype(np.int64)
+        np.fill_diagonal(self.dd, 0)
+        self.back = self.dd[:, 0].copy() if tours else np.zeros(self.n + 1, dtype=np.int64)
+        self.step = int(self.dd[:, 1:][~np.eye(self.n + 1, self.n, -1, dtype=bool)].min())
+        assert self.step >= 1, "zero-length arc in the pricing grid"
+
+    def budget(self, T: float, delta: float) -> int:
+        """``L``: the discretised length budget of makespan ``T``."""
+        return int(math.floor(T / delta + 1e-9))
+
+    def price(self, prize: np.ndarray, L: int) -> tuple[float, list[np.ndarray], list[int]]:
+        """Best walk value ``M`` and the best walk ending at each KPOI (if positive).
+
+        Parameters
+        ----------
+        prize : numpy.ndarray
+            ``pi_1..pi_n`` (non-negative).
+        L : int
+            Length budget.
+
+        Returns
+        -------
+        tuple
+            ``(M, walks, needs)``: ``walks`` as arrays of KPOIs ``1..n`` (visits in
+            order), best first, ``needs[w]`` = the walk's largest ``ell + r'_j``.
+        """
+        n, dd, back = self.n, self.dd, self.back
+        arcs = np.minimum(dd[:, 1:], L + 1)  # (n+1, n) lengths i -> j (j = 1..n)
+        arcs[np.eye(n + 1, n, -1, dtype=bool)] = L + 1  # no i -> i
+        pad = int(arcs.max())  # rows 0..pad-1: lengths below 0, never reachable
+        F1 = np.full((pad + L + 1, n + 1), -np.inf)
+        F2 = np.full((pad + L + 1, n + 1), -np.inf)
+        P1 = np.full((pad + L + 1, n + 1), -1, dtype=np.int64)
+        P2 = np.full((pad + L + 1, n + 1), -1, dtype=np.int64)
+        F1[pad, 0] = 0.0
+        cols = np.arange(1, n + 1)
+        offset = (arcs - pad) * (n + 1) - np.arange(n + 1)[:, None]  # flat = row*(n+1) - offset
+        f1, f2, p1s = F1.ravel(), F2.ravel(), P1.ravel()
+        cutoff = L - back[1:]
+        block = max(1, min(self.step, 64))
+        for start in range(1, L + 1, block):
+            ells = np.arange(start, min(start + block, L + 1))
+            flat = ells[:, None, None] * (n + 1) - offset[None, :, :]
+            value = np.where(p1s.take(flat) == cols, f2.take(flat), f1.take(flat))
+            best = np.argmax(value, axis=1)[:, None, :]  # (B, 1, n)
+            v1 = np.take_along_axis(value, best, axis=1)[:, 0, :]
+            np.put_along_axis(value, best, -np.inf, axis=1)
+            second = np.argmax(value, axis=1)[:, None, :]
+            v2 = np.take_along_axis(value, second, axis=1)[:, 0, :]
+            late = ells[:, None] > cutoff[None, :]
+            F1[pad + ells, 1:] = np.where(late, -np.inf, v1 + prize)
+            F2[pad + ells, 1:] = np.where(late, -np.inf, v2 + prize)
+            P1[pad + ells, 1:], P2[pad + ells, 1:] = best[:, 0, :], second[:, 0, :]
+        F1, P1, P2 = F1[pad:], P1[pad:], P2[pad:]
+        end = F1[:, 1:]
+        ell = np.argmax(end, axis=0)
+        value = end[ell, np.arange(n)]
+        M = float(value.max()) if n else 0.0
+        walks, needs = [], []
+        for j in np.argsort(-value, kind="stable"):
+            if not np.isfinite(value[j]):
+                break
+            walk, need = self._walk(int(ell[j]), int(j) + 1, P1, P2)
+            walks.append(walk)
+            needs.append(need)
+        return M, walks, needs
+
+    def _walk(self, ell: int, j: int, P1: np.ndarray, P2: np.ndarray) -> tuple[np.ndarray, int]:
+        """Trace the best walk ending at ``(ell, j)`` back to the start."""
+        order, need, rank = [], 0, 1
+        while j != 0:
+            order.append(j)
+            need = max(need, ell + int(self.back[j]))
+            i = int((P1 if rank == 1 else P2)[ell, j])
+            ell -= int(self.dd[i, j])
+            rank = 2 if i != 0 and P1[ell, i] == j else 1
+            j = i
+        return np.array(order[::-1], dtype=np.int64), need
+
+
+class _Master:
+    """Restricted master LP (1)-(3) in HiGHS over a growing pool of walks."""
+
+    def __init__(self, n: int) -> None:
+        self.n = n
+        self.pool: list[np.ndarray] = []  # visit counts per walk
+        self.need: list[int] = []
+        self.seen: set[bytes] = set()
+
+    def add(self, walks: list[np.ndarray], needs: list[int]) -> list[int]:
+        """Add new walks to the pool; indices of those actually new."""
+        fresh = []
+        for walk, need in zip(walks, needs):
+            counts = np.bincount(walk - 1, minlength=self.n).astype(np.float64)
+            key = counts.tobytes() + need.to_bytes(8, "little")
+            if key not in self.seen:
+                self.seen.add(key)
+                self.pool.append(counts)
+                self.need.append(need)
+                fresh.append(len(self.pool) - 1)
+        return fresh
+
+    def open(self, L: int) -> highspy.Highs:
+        """A HiGHS LP over the pool's walks that fit budget ``L``."""
+        h = highspy.Highs()
+        h.setOptionValue("output_flag", False)
+        h.addRows(self.n, np.ones(self.n), np.full(self.n, highspy.kHighsInf), 0,
+                  np.zeros(0, dtype=np.int32), np.zeros(0, dtype=np.int32), np.zeros(0))
+        self.extend(h, [c for c in range(len(self.pool)) if self.need[c] <= L])
+        h.changeObjectiveSense(highspy.ObjSense.kMinimize)
+        return h
+
+    def extend(self, h: highspy.Highs, columns: list[int]) -> None:
+        """Append pool columns to the LP ``h``."""
+        if not columns:
+            return
+        matrix = np.array([self.pool[c] for c in columns])
+        rows, which = np.nonzero(matrix.T)
+        order = np.lexsort((rows, which))
+        rows, which = rows[order], which[order]
+        starts = np.searchsorted(which, np.arange(len(columns))).astype(np.int32)
+        values = matrix[which, rows]
+        h.addCols(len(columns), np.ones(len(columns)), np.zeros(len(columns)),
+                  np.full(len(columns), highspy.kHighsInf), len(rows), starts,
+                  rows.astype(np.int32), values)
+
+
+def _fewest_routes_lp(
+    master: _Master, pricer: _Pricer, L: int, target: float | None, stop_at: float | None,
+) -> tuple[float, float, int, str]:
+    """Column generation at budget ``L``: ``(farley, master_value, iterations, why)``.
+
+    ``farley`` is a certified lower bound (4) on :math:`z'`. Stops when it exceeds
+    ``target``, when the master's value is at most ``target`` (a target cannot be
+    proven), when the LP is solved (bound meets the master's value), or at ``stop_at``
+    (``time.perf_counter()`` value). Duals are smoothed (Wentges 1997): the pricing uses
+    ``SMOOTHING * center + (1 - SMOOTHING) * master duals``, the center being the scaled
+    duals of the best bound so far; (4) holds for any non-negative duals, so the bound
+    stays certified.
+    """
+    h = master.open(L)
+    farley, value, iterations = 0.0, math.inf, 0
+    center = None
+    while True:
+        h.run()
+        if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
+            return farley, value, iterations, f"master LP: {h.modelStatusToString(h.getModelStatus())}"
+        value = float(h.getInfo().objective_function_value)
+        duals = np.maximum(np.asarray(h.getSolution().row_dual, dtype=np.float64), 0.0)
+        pi = duals if center is None else SMOOTHING * center + (1 - SMOOTHING) * duals
+        M, walks, needs = pricer.price(pi, L)
+        iterations += 1
+        improved = M > 0 and float(pi.sum()) / (M * (1 + CERT_TOL)) > farley
+        if improved:
+            farley, center = float(pi.sum()) / (M * (1 + CERT_TOL)), pi / M
+        if target is not None and farley > target * (1 + CERT_TOL) + CERT_TOL:
+            return farley, value, iterations, "proven"
+        if target is not None and value <= target * (1 + CERT_TOL) + CERT_TOL:
+            return farley, value, iterations, "master within target"
+        if target is None and math.ceil(farley - 1e-6) >= math.ceil(value - 1e-6):
+            return farley, value, iterations, "rounded bound closed"
+        if farley >= value * (1 - 1e-7):
+            return farley, value, iterations, "LP solved"
+        if stop_at is not None and time.perf_counter() >= stop_at:
+            return farley, value, iterations, "time limit"
+        counts = [np.bincount(w - 1, minlength=master.n) for w in walks]
+        keep = [i for i, c in enumerate(counts) if float(c @ duals) > 1 + 1e-9]
+        fresh = master.add([walks[i] for i in keep], [needs[i] for i in keep])
+        if fresh:
+            master.extend(h, fresh)
+        elif not improved:
+            return farley, value, iterations, "no new column"
+
+
+def _setup(D: np.ndarray, top: float, *, tours: bool):
+    """Merged matrix, grid step and pricer, or None when the grid would be too large."""
+    merged = merge_zero_distances(check_distance_matrix(D)).D
+    n = len(merged) - 1
+    if n == 0:
+        return None
+    positive = merged[~np.eye(n + 1, dtype=bool)]
+    delta = min(top / GRID, float(positive.min()) / (1 + 1e-6))
+    if delta <= 0 or (top / delta + 2) * (n + 1) > MAX_CELLS:
+        return None
+    return merged, delta, _Pricer(merged, tours=tours, delta=delta)
+
+
+def makespan_bound(
+    D: np.ndarray, k: int, *, tours: bool, upper: float, time_limit: float | None = None,
+) -> BoundInfo:
+    """Certified lower bound on the least makespan with at most ``k`` routes, with details.
+
+    Parameters
+    ----------
+    D : numpy.ndarray
+        ``(n+1, n+1)`` metric distance matrix, index 0 the start.
+    k : int
+        Routes available (at least 1).
+    tours : bool
+        Tours (return to 0) or open paths.
+    upper : float
+        A makespan known to be achievable (e.g. a heuristic's); the bisection's upper end.
+    time_limit : float, optional
+        Seconds; the bound found so far is returned when they run out.
+
+    Returns
+    -------
+    BoundInfo
+        ``bound`` never exceeds the optimum (module docstring).
+    """
+    began = time.perf_counter()
+    stop_at = None if time_limit is None else began + time_limit
+    if k < 1:
+        raise ValueError("k must be at least 1")
+    D = check_distance_matrix(D)
+    merged = merge_zero_distances(D).D
+    trivial = least_makespan(D, tours=tours)
+    if len(merged) > 1:
+        trivial = max(trivial, tree_lower_bound(merged, k, tours=tours))
+    info = BoundInfo(trivial, trivial)
+    ready = _setup(D, max(upper, trivial), tours=tours)
+    if ready is None or upper <= trivial:
+        info.message = "trivial bound (nothing to bisect or grid too large)"
+        info.seconds = time.perf_counter() - began
+        return info
+    _, delta, pricer = ready
+    master = _Master(pricer.n)
+    master.add([np.array([j]) for j in range(1, pricer.n + 1)],
+               [int(pricer.dd[0, j] + pricer.back[j]) for j in range(1, pricer.n + 1)])
+    lo, hi = trivial, upper
+    info.message = "converged"
+    while hi - lo > BISECTION_TOL * hi:
+        if stop_at is not None and time.perf_counter() >= stop_at:
+            info.message = "time limit"
+            break
+        T = 0.5 * (lo + hi)
+        farley, value, its, why = _fewest_routes_lp(master, pricer, pricer.budget(T, delta), k, stop_at)
+        proven = why == "proven"
+        info.steps.append((T, proven, farley, value, its))
+        if proven:
+            lo = T
+        else:
+            hi = T
+    info.bound, info.columns = lo, len(master.pool)
+    info.seconds = time.perf_counter() - began
+    return info
+
+
+def makespan_lower_bound(
+    D: np.ndarray, k: int, *, tours: bool, upper: float, time_limit: float | None = None,
+) -> float:
+    """Certified lower bound on the least makespan with at most ``k`` routes.
+
+    See :func:`makespan_bound` (same parameters); this returns its ``bound`` only.
+    """
+    return makespan_bound(D, k, tours=tours, upper=upper, time_limit=time_limit).bound
+
+
+def robots_bound(
+    D: np.ndarray, deadline: float, *, tours: bool, time_limit: float | None = None,
+) -> BoundInfo:
+    """Certified lower bound (float) on the fewest routes within ``deadline``, with details.
+
+    ``bound`` is the LP bound (4) at ``T = deadline``; round it up for a robot count.
+    ``trivial`` is the spanning-tree count of :func:`milp.arcflow.robots_lower_bound`.
+    Raises ValueError when ``deadline`` is below ``c_max`` / ``2 c_max`` (no solution).
+    """
+    began = time.perf_counter()
+    D = check_distance_matrix(D)
+    if deadline < least_makespan(D, tours=tours) * (1 - 1e-9) - 1e-9:
+        raise ValueError("deadline below the least makespan: no solution")
+    merged = merge_zero_distances(D).D
+    trivial = float(tree_robots_bound(merged, deadline, tours=tours)) if len(merged) > 1 else 1.0
+    info = BoundInfo(trivial, trivial)
+    ready = _setup(D, deadline, tours=tours)
+    if ready is None:
+        info.message = "trivial bound (grid too large)"
+        info.seconds = time.perf_counter() - began
+        return info
+    _, delta, pricer = ready
+    master = _Master(pricer.n)
+    master.add([np.array([j]) for j in range(1, pricer.n + 1)],
+               [int(pricer.dd[0, j] + pricer.back[j]) for j in range(1, pricer.n + 1)])
+    L = pricer.budget(deadline, delta)
+    stop_at = None if time_limit is None else began + time_limit
+    farley, value, its, why = _fewest_routes_lp(master, pricer, L, None, stop_at)
+    info.steps.append((deadline, False, farley, value, its))
+    info.bound, info.columns, info.message = max(farley, trivial), len(master.pool), why
+    info.seconds = time.perf_counter() - began
+    return info
+
+
+def robots_lower_bound(
+    D: np.ndarray, deadline: float, *, tours: bool, time_limit: float | None = None,
+) -> int:
+    """Certified lower bound on the fewest robots whose routes all meet ``deadline``.
+
+    The LP bound of :func:`robots_bound` rounded up (with a 1e-6 tolerance for float
+    round-off), never below the spanning-tree count.
+    """
+    info = robots_bound(D, deadline, tours=tours, time_limit=time_limit)
+    return max(int(info.trivial), math.ceil(info.bound - 1e-6))
