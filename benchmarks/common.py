@@ -74,9 +74,14 @@ class Section:
     targets: list[str] = field(default_factory=list)
 
 
+def euclidean_points(n: int, seed: int) -> np.ndarray:
+    """A start (row 0) and ``n`` KPOIs uniform in a 100 x 100 square, seeded."""
+    return np.random.default_rng(seed).uniform(0.0, 100.0, size=(n + 1, 2))
+
+
 def euclidean_distances(n: int, seed: int) -> np.ndarray:
-    """Distances of a start and ``n`` KPOIs uniform in a 100 x 100 square (start at index 0)."""
-    points = np.random.default_rng(seed).uniform(0.0, 100.0, size=(n + 1, 2))
+    """Distances between :func:`euclidean_points` (start at index 0)."""
+    points = euclidean_points(n, seed)
     return np.linalg.norm(points[:, None, :] - points[None, :, :], axis=2)
 
 

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from benchmarks.common import Config, Section, markdown_table, run_peer
+from benchmarks.common import Config, Section, euclidean_points, markdown_table, run_peer
 from parcover import Instance, solve
 from parcover.verify import InvalidSolution, verify
 
@@ -62,13 +62,12 @@ def run(config: Config) -> Section:
 
 
 def random_instance(n: int, seed: int) -> Instance:
-    """The instance whose distances are ``euclidean_distances(n, seed)`` (start = row 0).
+    """The instance of :func:`benchmarks.common.euclidean_points` (start = row 0).
 
-    The points are drawn exactly as :func:`benchmarks.common.euclidean_distances` draws
-    them, so that parcover sees coordinates (some constructions of ``best`` use them).
+    Built from the points, not the distances, so that parcover sees coordinates (some
+    constructions of ``best`` use them).
     """
-    points = np.random.default_rng(seed).uniform(0.0, 100.0, size=(n + 1, 2))
-    return Instance.from_points(points, name=f"uniform-{n}-{seed}")
+    return Instance.from_points(euclidean_points(n, seed), name=f"uniform-{n}-{seed}")
 
 
 def checked_peer_routes(
