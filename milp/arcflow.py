@@ -41,7 +41,8 @@ arrival at the head of :math:`a`), :math:`T` (makespan, ``min_makespan`` only).
 
 Objective: minimise :math:`T` (``min_makespan``) or :math:`\sum_{a\in\delta^+(0)} x_a`
 (``min_robots``, where the deadline enters through (5) with :math:`U` = deadline;
-:math:`Q` is the spanning-tree bound of :func:`robots_lower_bound`).
+:math:`Q` is the spanning-tree bound of :func:`robots_lower_bound` in :func:`build_model`,
+the column-generation bound of :mod:`milp.colgen` in :func:`min_robots`).
 
 Why it is exact. (2) makes the used arcs a set of node-disjoint paths from 0 to E plus
 possibly cycles inside N. Summing (3) around a cycle inside N gives
@@ -51,7 +52,9 @@ between distinct KPOIs is positive: so only routes 0 -> ... -> E remain. Along a
 bounded by (5) and (6). (5)'s lower bound holds because the distance on arrival at j
 via i is at least :math:`d_{0i} + d_{ij}` (triangle inequality). (7) is valid because the
 total length of all routes is at most (number of routes) x (largest route); the same
-spanning-tree argument bounds the number of routes from below in (1). (8): every
+spanning-tree argument bounds the number of routes from below in (1), and so does the
+stronger certified bound of :mod:`milp.colgen` (the LP over routes), which min_robots
+uses for ``Q``. (8): every
 KPOI is at distance at most the makespan from the start (twice for tours), and the
 routes together contain a spanning tree (see :func:`makespan_lower_bound`).
 Pruning with :math:`U` = a known makespan keeps every solution at least as good.
@@ -463,12 +466,14 @@ def min_robots(
             raise ValueError("a warm-start route exceeds the deadline")
     if merged.size == 0:
         return _proven(D, merged.expand([]), tours, 1, began, "every KPOI is at the start")
-    fewest = robots_lower_bound(merged.D, deadline, tours=tours)
     budget = None if time_limit is None else HEURISTIC_SHARE * time_limit
+    from milp import colgen  # colgen builds on this module's bounds: imported here, not above
+
+    fewest = colgen.robots_lower_bound(merged.D, deadline, tours=tours, time_limit=budget)
     start = _robots_start(merged, deadline, fewest, tours, warm_start, budget)
     if len(start) <= fewest:
         return _proven(D, merged.expand(start), tours, len(start), began,
-                       "heuristic meets the spanning-tree bound")
+                       "heuristic meets the column-generation bound")
     model = _assemble(merged, tours=tours, U=float(deadline), k=None, fewest=fewest)
     solve = solve_lp(model.lp, time_limit=_remaining(time_limit, began),
                      start=model.start_vector(start), options=SEARCH_OPTIONS)
@@ -478,7 +483,7 @@ def min_robots(
     routes = model.merged.expand(min([routes, start], key=len))
     if solve.status == "optimal":
         return _proven(D, routes, tours, len(routes), began, solve.message, solve.nodes)
-    bound = min(max(1, ceil((solve.bound or 1.0) - BOUND_SLACK)), len(routes))
+    bound = min(max(fewest, ceil((solve.bound or 1.0) - BOUND_SLACK)), len(routes))
     return MilpResult("feasible", routes, float(len(routes)), float(bound),
                       relative_gap(len(routes), bound), solve.nodes, time.perf_counter() - began,
                       solve.message)

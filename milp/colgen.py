@@ -86,6 +86,7 @@ import numpy as np
 
 from milp.arcflow import makespan_lower_bound as tree_lower_bound
 from milp.arcflow import robots_lower_bound as tree_robots_bound
+from milp.highs import new_highs
 from milp.merge import merge_zero_distances
 from milp.routes import check_distance_matrix, least_makespan
 
@@ -248,8 +249,7 @@ class _Master:
 
     def open(self, L: int) -> highspy.Highs:
         """A HiGHS LP over the pool's walks that fit budget ``L``."""
-        h = highspy.Highs()
-        h.setOptionValue("output_flag", False)
+        h = new_highs(None)  # the project's thread count: HiGHS' scheduler is process-wide
         h.addRows(self.n, np.ones(self.n), np.full(self.n, highspy.kHighsInf), 0,
                   np.zeros(0, dtype=np.int32), np.zeros(0, dtype=np.int32), np.zeros(0))
         self.extend(h, [c for c in range(len(self.pool)) if self.need[c] <= L])

@@ -1,0 +1,95 @@
+"""Exact-scaling benchmark: the naive models and CP-SAT agree with set partitioning, and
+the section's quick path and ratio arithmetic work."""
+
+from __future__ import annotations
+
+import importlib.util
+
+import numpy as np
+import pytest
+
+from benchmarks import exact_scaling, naive_models
+from benchmarks.common import Config, euclidean_distances, run_peer
+from milp import setpart
+from milp.routes import least_makespan, route_cost, within
+
+HAS_ORTOOLS = importlib.util.find_spec("ortools") is not None
+CASES = [(n, tours) for n in (5, 6) for tours in (False, True)]
+
+
+@pytest.mark.parametrize(("n", "tours"), CASES)
+def test_naive_models_match_set_partitioning(n: int, tours: bool) -> None:
+    D = euclidean_distances(n, seed=n)
+    best = setpart.min_makespan(D, 2, tours=tours).objective
+    deadline = 1.2 * least_makespan(D, tours=tours)
+    fewest = setpart.min_robots(D, deadline, tours=tours).objective
+    for solve in (naive_models.mtz_min_makespan, naive_models.arcflow_min_makespan):
+        result = solve(D, 2, tours=tours)
+        assert result.status == "optimal"
+        assert len(result.routes) <= 2
+        assert result.objective == pytest.approx(best, rel=1e-7)
+    for solve in (naive_models.mtz_min_robots, naive_models.arcflow_min_robots):
+        result = solve(D, deadline, tours=tours)
+        assert result.status == "optimal"
+        assert result.objective == fewest
+        assert all(within(route_cost(D, r, tours=tours), deadline) for r in result.routes)
+
+
+def test_naive_models_refuse_coincident_kpois() -> None:
+    # KPOIs 1 and 2 at the same point: a zero-length cycle would fool both models
+    points = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.0]])
+    D = np.linalg.norm(points[:, None] - points[None], axis=2)
+    with pytest.raises(ValueError):
+        naive_models.mtz_min_makespan(D, 1, tours=False)
+
+
+@pytest.mark.skipif(not HAS_ORTOOLS, reason="ortools not installed ([bench] extra)")
+@pytest.mark.parametrize(("n", "tours"), CASES)
+def test_cpsat_matches_set_partitioning(n: int, tours: bool) -> None:
+    D = euclidean_distances(n, seed=n)
+    kind = "tours" if tours else "paths"
+    best = setpart.min_makespan(D, 2, tours=tours).objective
+    answer = run_peer("cpsat", {"distances": D.tolist(), "routes": kind, "robots": 2,
+                                "time_limit": 10, "workers": 2}, timeout=120)
+    assert answer["status"] == "optimal"
+    # rounding each of at most n + 1 arcs down by < 1e-4 (module docstring of the peer)
+    assert abs(answer["objective"] - best) <= (n + 1) / answer["scale"]
+    assert answer["bound"] <= best + 1e-9
+    covered = sorted(i for r in answer["routes"] for i in r)
+    assert covered == list(range(1, n + 1)) and len(answer["routes"]) <= 2
+    deadline = 1.2 * least_makespan(D, tours=tours)
+    fewest = setpart.min_robots(D, deadline, tours=tours).objective
+    answer = run_peer("cpsat", {"distances": D.tolist(), "routes": kind, "deadline": deadline,
+                                "time_limit": 10, "workers": 2}, timeout=120)
+    assert answer["status"] == "optimal" and answer["objective"] == fewest
+
+
+def test_ratio_counts_unproven_peer_at_its_limit() -> None:
+    compact = {"status": "optimal", "seconds": 2.0, "limit": 10.0}
+    assert exact_scaling.ratio({"status": "optimal", "seconds": 5.0, "limit": 30.0}, compact) == "2.5"
+    # not proven within its 30 s: at least 30 / 2 = 15 times slower
+    assert exact_scaling.ratio({"status": "feasible", "seconds": 30.1, "limit": 30.0}, compact) == ">= 15"
+    # compact not proven: no ratio
+    assert exact_scaling.ratio({"status": "optimal", "seconds": 5.0, "limit": 30.0},
+                               {"status": "feasible", "seconds": 10.0, "limit": 10.0}) == "-"
+
+
+def test_quick_section_on_tiny_grid(tmp_path, monkeypatch) -> None:
+    tiny = [dict(n=5, seed=1, routes="paths", k=2, factor=None,
+                 models=("compact", "setpart", "mtz", "plain"), limit=5.0),
+            dict(n=5, seed=1, routes="tours", k=None, factor=1.2,
+                 models=("compact", "setpart", "plain"), limit=5.0)]
+    monkeypatch.setattr(exact_scaling, "grid", lambda quick: tiny)
+    section = exact_scaling.run(Config(quick=True, figures=tmp_path, figures_link="fig"))
+    frame = section.tables["exact_scaling"]
+    assert len(frame) == 7 and set(frame["status"]) == {"optimal"}
+    for _, cell in frame.groupby("problem"):
+        assert cell["objective"].max() - cell["objective"].min() <= 1e-7
+    ratios = section.tables["exact_scaling_ratios"]
+    compact = frame[frame["model"] == "compact"].set_index("problem")["seconds"]
+    setpart_s = frame[frame["model"] == "setpart"].set_index("problem")["seconds"]
+    for row in ratios.to_dict("records"):
+        expected = setpart_s[row["problem"]] / max(compact[row["problem"]], 1e-3)
+        assert row["setpart / compact"] == f"{expected:.3g}"
+    assert (tmp_path / "exact_scaling.png").exists()
+    assert len(section.targets) == 4
