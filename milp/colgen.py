@@ -271,6 +271,15 @@ class _Master:
                   rows.astype(np.int32), values)
 
 
+def _single_kpoi_master(pricer: _Pricer) -> _Master:
+    """A restricted master holding the route ``0 -> j`` (``-> 0``) of every KPOI ``j``,
+    so that (2) is feasible from the first iteration."""
+    master = _Master(pricer.n)
+    master.add([np.array([j]) for j in range(1, pricer.n + 1)],
+               [int(pricer.dd[0, j] + pricer.back[j]) for j in range(1, pricer.n + 1)])
+    return master
+
+
 def _fewest_routes_lp(
     master: _Master, pricer: _Pricer, L: int, target: float | None, stop_at: float | None,
 ) -> tuple[float, float, int, str]:
@@ -370,9 +379,7 @@ def makespan_bound(
         info.seconds = time.perf_counter() - began
         return info
     _, delta, pricer = ready
-    master = _Master(pricer.n)
-    master.add([np.array([j]) for j in range(1, pricer.n + 1)],
-               [int(pricer.dd[0, j] + pricer.back[j]) for j in range(1, pricer.n + 1)])
+    master = _single_kpoi_master(pricer)
     lo, hi = trivial, upper
     info.message = "converged"
     while hi - lo > BISECTION_TOL * hi:
@@ -424,9 +431,7 @@ def robots_bound(
         info.seconds = time.perf_counter() - began
         return info
     _, delta, pricer = ready
-    master = _Master(pricer.n)
-    master.add([np.array([j]) for j in range(1, pricer.n + 1)],
-               [int(pricer.dd[0, j] + pricer.back[j]) for j in range(1, pricer.n + 1)])
+    master = _single_kpoi_master(pricer)
     L = pricer.budget(deadline, delta)
     stop_at = None if time_limit is None else began + time_limit
     farley, value, its, why = _fewest_routes_lp(master, pricer, L, None, stop_at)
