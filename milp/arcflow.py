@@ -54,7 +54,8 @@ via i is at least :math:`d_{0i} + d_{ij}` (triangle inequality). (7) is valid be
 total length of all routes is at most (number of routes) x (largest route); the same
 spanning-tree argument bounds the number of routes from below in (1), and so does the
 stronger certified bound of :mod:`milp.colgen` (the LP over routes), which min_robots
-uses for ``Q``. (8): every
+uses for ``Q``; min_makespan reports colgen's makespan bound when HiGHS stops unproven
+(as a hard bound on T inside the model it slows HiGHS down). (8): every
 KPOI is at distance at most the makespan from the start (twice for tours), and the
 routes together contain a spanning tree (see :func:`makespan_lower_bound`).
 Pruning with :math:`U` = a known makespan keeps every solution at least as good.
@@ -98,6 +99,9 @@ SEARCH_OPTIONS = {
 }
 #: Share of a time limit spent at most (roughly) on the warm-start heuristics.
 HEURISTIC_SHARE = 0.2
+#: Share of a time limit kept back from HiGHS in min_makespan for the column-generation
+#: bound, computed only when HiGHS stops before proving the optimum.
+BOUND_SHARE = 0.1
 
 
 @dataclass(frozen=True)
@@ -390,8 +394,17 @@ def min_makespan(
     if upper <= L * (1 + BOUND_SLACK * 1e-3):
         return _proven(D, merged.expand(start), tours, L, began, "warm start meets the lower bound")
     model = _assemble(merged, tours=tours, U=upper, k=k)
-    solve = solve_lp(model.lp, time_limit=_remaining(time_limit, began),
+    reserve = 0.0 if time_limit is None else BOUND_SHARE * time_limit
+    solve = solve_lp(model.lp, time_limit=_remaining(time_limit, began, reserve),
                      start=model.start_vector(start), options=SEARCH_OPTIONS)
+    left = _remaining(time_limit, began)
+    if solve.status != "optimal" and (left is None or left > 0):
+        # The compact LP bound is weak (milp/README.md): column generation's is far stronger.
+        # Computed only now, because as a hard bound on T it slows HiGHS down.
+        from milp import colgen  # colgen builds on this module's bounds: imported here, not above
+
+        incumbent = min(upper, solve.objective if solve.objective is not None else upper)
+        L = max(L, colgen.makespan_lower_bound(merged.D, k, tours=tours, upper=incumbent, time_limit=left))
     return _makespan_result(D, model, solve, start, L, began)
 
 
@@ -418,6 +431,8 @@ def _makespan_result(
     value = makespan(D, routes, tours=model.tours)
     if solve.status == "optimal":
         return _proven(D, routes, model.tours, value, began, solve.message, solve.nodes)
+    if within(value, L):
+        return _proven(D, routes, model.tours, value, began, "solution meets the lower bound", solve.nodes)
     bound = min(max(L, solve.bound if solve.bound is not None else L), value)
     return MilpResult("feasible", routes, value, bound, relative_gap(value, bound), solve.nodes,
                       time.perf_counter() - began, solve.message)
@@ -489,9 +504,9 @@ def min_robots(
                       solve.message)
 
 
-def _remaining(time_limit: float | None, began: float) -> float | None:
-    """What is left of ``time_limit`` after the set-up since ``began`` (None: no limit)."""
-    return None if time_limit is None else time_limit - (time.perf_counter() - began)
+def _remaining(time_limit: float | None, began: float, reserve: float = 0.0) -> float | None:
+    """What is left of ``time_limit`` since ``began``, less ``reserve`` (None: no limit)."""
+    return None if time_limit is None else time_limit - reserve - (time.perf_counter() - began)
 
 
 def robots_lower_bound(D: np.ndarray, deadline: float, *, tours: bool) -> int:

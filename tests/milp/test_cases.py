@@ -100,6 +100,17 @@ def test_tiny_time_limit_on_hard_instance():
 
 
 @pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
+def test_a_stopped_solve_reports_a_valid_stronger_bound(tours):
+    # HiGHS is stopped at once (0.2 s), so the bound comes from column generation: it must be
+    # no weaker than the spanning-tree bound and never above the optimum (set partitioning).
+    D = euclidean(11, 5)
+    stopped = arcflow.min_makespan(D, 3, tours=tours, time_limit=0.2)
+    optimum = setpart.min_makespan(D, 3, tours=tours).objective
+    assert arcflow.makespan_lower_bound(D, 3, tours=tours) - TOL <= stopped.bound <= optimum + TOL
+    check_solution(D, stopped, tours=tours, k=3)
+
+
+@pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
 @pytest.mark.parametrize("D", [euclidean(7, 31), graph_metric(6, 32)], ids=["euclid", "graph"])
 def test_frontier(D, tours):
     results = milp.frontier(D, tours=tours)
