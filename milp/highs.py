@@ -6,13 +6,38 @@ Models are handed over as a :class:`highspy.HighsLp` built in bulk from CSC arra
 
 from __future__ import annotations
 
+import ctypes
 import os
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 import highspy
 import numpy as np
 from scipy import sparse
+
+
+def _absorb_banner() -> None:
+    """Build the process's first ``Highs`` with the C-level stdout sent to /dev/null.
+
+    HiGHS 1.16 prints a two-line banner on stdout when the first ``Highs`` of a process is
+    built, before any ``output_flag`` can be set; that would end up in ``parcover``'s
+    console output and JSON. It prints once per process, so absorbing it here (at import,
+    before any solver is built, cvxpy's included) keeps every later solve silent.
+    """
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 1)
+            highspy.Highs()
+            ctypes.CDLL(None).fflush(None)  # the banner may sit in C's stdout buffer
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+
+
+_absorb_banner()
 
 #: Relative and absolute MIP gaps: "optimal" then means exact to about 1e-9 relative
 #: (HiGHS' defaults, 1e-4 and 1e-6, stop 0.01% above the optimum).

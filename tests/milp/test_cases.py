@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import highspy
 import numpy as np
 import pytest
@@ -179,3 +182,14 @@ def test_result_status_and_gap():
     assert relative_gap(None, 1.0) is None and relative_gap(2.0, None) is None
     assert relative_gap(0.0, 0.0) == 0.0
     assert relative_gap(4.0, 3.0) == 0.25
+
+
+def test_solving_prints_nothing_on_stdout():
+    # HiGHS 1.16 prints a banner when a process builds its first Highs; milp absorbs it, so
+    # parcover's console output and JSON stay clean. A fresh process, as a user's would be.
+    code = (
+        "import numpy as np, highspy, milp; highspy.Highs();"
+        "D = np.array([[0., 1.], [1., 0.]]); milp.min_makespan(D, 1, tours=False)"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout == ""
