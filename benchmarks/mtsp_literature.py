@@ -6,7 +6,7 @@ Breaban and Raschip, ICTAI 2015). For each cell:
 
 - our value: ``parcover.solve(..., method="best")`` with :data:`BEST_SECONDS`;
 - our certified lower bound: the largest of ``2 c_max``, the spanning-tree bound
-  (:func:`milp.arcflow.makespan_lower_bound`) and the column-generation bound
+  (:func:`milp.bounds.makespan_lower_bound`) and the column-generation bound
   (:func:`milp.colgen.makespan_bound`, at most :data:`BOUND_SECONDS`, or
   :data:`FEW_ROBOTS_BOUND_SECONDS` for m <= 3; skipped when the
   value already meets the simpler bounds);
@@ -27,7 +27,7 @@ import pandas as pd
 
 import parcover
 from benchmarks.common import ROOT, Config, Section, markdown_table
-from milp import arcflow, colgen
+from milp import bounds, colgen
 from milp.merge import merge_zero_distances
 from parcover.io import read_instance
 
@@ -61,7 +61,7 @@ def solve_cell(name: str, m: int, best_seconds: float, bound_seconds: float) -> 
     best_time = time.perf_counter() - began
     value = float(result.makespan)
     trivial = 2.0 * float(D[0, 1:].max())
-    tree = arcflow.makespan_lower_bound(merge_zero_distances(D).D, m, tours=True)
+    tree = bounds.makespan_lower_bound(merge_zero_distances(D).D, m, tours=True)
     bound = max(trivial, tree, float(result.bound or 0.0))
     cg, cg_time = np.nan, 0.0
     if value > bound * (1 + PROVEN_TOL):

@@ -8,6 +8,7 @@ start and ``1..n`` the KPOIs. Methods:
 - :mod:`milp.setpart`: Held-Karp over all subsets plus set partitioning (``n <= 16``),
   an independent check.
 - :mod:`milp.cvx`: the arc-flow model written in cvxpy, for reading.
+- :mod:`milp.bounds`: spanning-tree bounds every model starts from.
 - :mod:`milp.colgen`: certified lower bounds from column generation over routes
   (relaxed pricing, valid when stopped early), for instances too large to prove.
 - :func:`frontier`: optimal makespan for ``k = 1, 2, ...`` robots.
@@ -15,7 +16,7 @@ start and ``1..n`` the KPOIs. Methods:
 This package imports only numpy, scipy, highspy and cvxpy.
 """
 
-from milp import arcflow, colgen, cvx, setpart
+from milp import arcflow, bounds, colgen, cvx, setpart
 from milp.arcflow import ArcModel, build_model, min_makespan, min_robots
 from milp.frontier import frontier
 from milp.highs import write_model
@@ -25,6 +26,7 @@ __all__ = [
     "ArcModel",
     "MilpResult",
     "arcflow",
+    "bounds",
     "colgen",
     "build_model",
     "cvx",

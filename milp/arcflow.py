@@ -71,8 +71,9 @@ from pathlib import Path
 import highspy
 import numpy as np
 from scipy import sparse
-from scipy.sparse.csgraph import minimum_spanning_tree
 
+from milp import colgen
+from milp.bounds import makespan_lower_bound, robots_lower_bound
 from milp.highs import BOUND_SLACK, LpSolve, make_lp, solve_lp, write_model
 from milp.merge import Merged, merge_zero_distances
 from milp.result import MilpResult, relative_gap
@@ -321,34 +322,6 @@ def _assemble(
     return ArcModel(lp, merged, tail, head, tours)
 
 
-def makespan_lower_bound(D: np.ndarray, k: int, *, tours: bool) -> float:
-    """``L`` of (8): the larger of ``c_max`` (``2 c_max``) and a spanning-tree bound.
-
-    The routes of a solution all contain the start, so for paths their ``n`` arcs form
-    a spanning tree of ``{0..n}``: total length >= MST, and with ``q <= k`` routes the
-    makespan is >= MST / q >= MST / k. For tours, dropping each tour's closing arc leaves
-    such a tree, and the ``q`` closing arcs return from ``q`` distinct KPOIs: makespan
-    >= min over q <= k of (MST + sum of the q smallest ``d_i0``) / q.
-
-    Parameters
-    ----------
-    D : numpy.ndarray
-        Merged distance matrix (no zero off-diagonal entry, so scipy's MST sees every edge).
-    k : int
-        Robots available.
-    tours : bool
-        Route kind.
-
-    Returns
-    -------
-    float
-    """
-    tree = float(minimum_spanning_tree(D).sum())
-    q = np.arange(1, min(k, len(D) - 1) + 1)
-    closing = np.cumsum(np.sort(D[0, 1:]))[: len(q)] if tours else np.zeros(len(q))
-    return max(least_makespan(D, tours=tours), float(np.min((tree + closing) / q)))
-
-
 def min_makespan(
     D: np.ndarray,
     k: int,
@@ -401,8 +374,6 @@ def min_makespan(
     if solve.status != "optimal" and (left is None or left > 0):
         # The compact LP bound is weak (milp/README.md): column generation's is far stronger.
         # Computed only now, because as a hard bound on T it slows HiGHS down.
-        from milp import colgen  # colgen builds on this module's bounds: imported here, not above
-
         incumbent = min(upper, solve.objective if solve.objective is not None else upper)
         L = max(L, colgen.makespan_lower_bound(merged.D, k, tours=tours, upper=incumbent, time_limit=left))
     return _makespan_result(D, model, solve, start, L, began)
@@ -482,8 +453,6 @@ def min_robots(
     if merged.size == 0:
         return _proven(D, merged.expand([]), tours, 1, began, "every KPOI is at the start")
     budget = None if time_limit is None else HEURISTIC_SHARE * time_limit
-    from milp import colgen  # colgen builds on this module's bounds: imported here, not above
-
     fewest = colgen.robots_lower_bound(merged.D, deadline, tours=tours, time_limit=budget)
     start = _robots_start(merged, deadline, fewest, tours, warm_start, budget)
     if len(start) <= fewest:
@@ -507,32 +476,6 @@ def min_robots(
 def _remaining(time_limit: float | None, began: float, reserve: float = 0.0) -> float | None:
     """What is left of ``time_limit`` since ``began``, less ``reserve`` (None: no limit)."""
     return None if time_limit is None else time_limit - reserve - (time.perf_counter() - began)
-
-
-def robots_lower_bound(D: np.ndarray, deadline: float, *, tours: bool) -> int:
-    """``Q`` of (1): the least route count the spanning-tree argument allows.
-
-    ``q`` routes within ``U`` have total length ``<= q U``; that total is at least the
-    MST (paths), or the MST plus the ``q`` smallest ``d_i0`` (tours), see
-    :func:`makespan_lower_bound`.
-
-    Parameters
-    ----------
-    D : numpy.ndarray
-        Merged distance matrix (no zero off-diagonal entry).
-    deadline : float
-        ``U``, at least ``c_max`` (paths) / ``2 c_max`` (tours).
-    tours : bool
-        Route kind.
-
-    Returns
-    -------
-    int
-    """
-    tree = float(minimum_spanning_tree(D).sum())
-    q = np.arange(1, len(D))
-    closing = np.cumsum(np.sort(D[0, 1:])) if tours else np.zeros(len(q))
-    return int(q[np.argmax(within(tree + closing, q * deadline))])
 
 
 def _robots_start(

@@ -63,7 +63,7 @@ mixed-integer programming", Int. Trans. Oper. Res. 4): fewer iterations, and (4)
 for the smoothed duals too, since it holds for any :math:`\pi \ge 0`.
 
 Min-max bound: bisection on :math:`T` between the known lower bound (``c_max`` /
-``2 c_max`` and :func:`milp.arcflow.makespan_lower_bound`) and the caller's upper bound;
+``2 c_max`` and :func:`milp.bounds.makespan_lower_bound`) and the caller's upper bound;
 a ``T`` proven infeasible becomes the new lower end. The grid is fixed for the whole
 bisection (:math:`\delta` from the upper bound), so columns carry over between steps.
 
@@ -84,8 +84,8 @@ from dataclasses import dataclass, field
 import highspy
 import numpy as np
 
-from milp.arcflow import makespan_lower_bound as tree_lower_bound
-from milp.arcflow import robots_lower_bound as tree_robots_bound
+from milp.bounds import makespan_lower_bound as tree_lower_bound
+from milp.bounds import robots_lower_bound as tree_robots_bound
 from milp.highs import new_highs
 from milp.merge import merge_zero_distances
 from milp.routes import check_distance_matrix, least_makespan
@@ -415,7 +415,7 @@ def robots_bound(
     """Certified lower bound (float) on the fewest routes within ``deadline``, with details.
 
     ``bound`` is the LP bound (4) at ``T = deadline``; round it up for a robot count.
-    ``trivial`` is the spanning-tree count of :func:`milp.arcflow.robots_lower_bound`.
+    ``trivial`` is the spanning-tree count of :func:`milp.bounds.robots_lower_bound`.
     Raises ValueError when ``deadline`` is below ``c_max`` / ``2 c_max`` (no solution).
     """
     began = time.perf_counter()

@@ -1,0 +1,65 @@
+"""Spanning-tree lower bounds on the makespan and on the number of routes.
+
+Cheap bounds every exact model starts from: :mod:`milp.arcflow` uses them as ``L`` of its
+constraint (8) and ``Q`` of (1), and :mod:`milp.colgen` bisects upwards from them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.sparse.csgraph import minimum_spanning_tree
+
+from milp.routes import least_makespan, within
+
+
+def makespan_lower_bound(D: np.ndarray, k: int, *, tours: bool) -> float:
+    """``L`` of arcflow's (8): the larger of ``c_max`` (``2 c_max``) and a tree bound.
+
+    The routes of a solution all contain the start, so for paths their ``n`` arcs form
+    a spanning tree of ``{0..n}``: total length >= MST, and with ``q <= k`` routes the
+    makespan is >= MST / q >= MST / k. For tours, dropping each tour's closing arc leaves
+    such a tree, and the ``q`` closing arcs return from ``q`` distinct KPOIs: makespan
+    >= min over q <= k of (MST + sum of the q smallest ``d_i0``) / q.
+
+    Parameters
+    ----------
+    D : numpy.ndarray
+        Merged distance matrix (no zero off-diagonal entry, so scipy's MST sees every edge).
+    k : int
+        Robots available.
+    tours : bool
+        Route kind.
+
+    Returns
+    -------
+    float
+    """
+    tree = float(minimum_spanning_tree(D).sum())
+    q = np.arange(1, min(k, len(D) - 1) + 1)
+    closing = np.cumsum(np.sort(D[0, 1:]))[: len(q)] if tours else np.zeros(len(q))
+    return max(least_makespan(D, tours=tours), float(np.min((tree + closing) / q)))
+
+def robots_lower_bound(D: np.ndarray, deadline: float, *, tours: bool) -> int:
+    """``Q`` of arcflow's (1): the least route count the spanning-tree argument allows.
+
+    ``q`` routes within ``U`` have total length ``<= q U``; that total is at least the
+    MST (paths), or the MST plus the ``q`` smallest ``d_i0`` (tours), see
+    :func:`makespan_lower_bound`.
+
+    Parameters
+    ----------
+    D : numpy.ndarray
+        Merged distance matrix (no zero off-diagonal entry).
+    deadline : float
+        ``U``, at least ``c_max`` (paths) / ``2 c_max`` (tours).
+    tours : bool
+        Route kind.
+
+    Returns
+    -------
+    int
+    """
+    tree = float(minimum_spanning_tree(D).sum())
+    q = np.arange(1, len(D))
+    closing = np.cumsum(np.sort(D[0, 1:])) if tours else np.zeros(len(q))
+    return int(q[np.argmax(within(tree + closing, q * deadline))])
