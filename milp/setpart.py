@@ -1,4 +1,4 @@
-r"""Set partitioning over every subset's cheapest route (Held-Karp), solved with HiGHS.
+r"""Set partitioning over every subset's cheapest route (Held-Karp), solved by counting.
 
 An exact method independent of :mod:`milp.arcflow` (it shares only the HiGHS plumbing
 and input checks).
@@ -14,14 +14,30 @@ and input checks).
    Path cost :math:`c(S) = \min_j f(S, j)`; tour cost :math:`c(S) = \min_j f(S, j) + d_{j0}`.
    Time :math:`O(2^n n^2)`, memory :math:`O(2^n n)`: ``n <= 16`` (about 1 M states).
 
-2. ``min_robots(U)``: binary :math:`y_S` for every subset with :math:`c(S) \le U`,
+2. ``min_robots(U)``: the family :math:`F = \{S : c(S) \le U\}` of routes within the
+   deadline. With a metric :math:`D` it is *downward closed* (dropping a KPOI from a
+   route never makes it longer: shortcut, triangle inequality), and then ``S`` can be
+   split into at most :math:`j` routes of :math:`F` iff :math:`j` members of
+   :math:`F` (the empty set included) have union ``S``. Their number is an
+   inclusion-exclusion sum over the zeta transform
+   :math:`z(R) = |\{T \in F : T \subseteq R\}|` (Bjoerklund, Husfeldt and Koivisto,
+   "Set partitioning via inclusion-exclusion", SIAM J. Comput. 39, 2009):
+
+   .. math::
+       N_j(S) = \sum_{R \subseteq S} (-1)^{|S \setminus R|} z(R)^j ,
+
+   computed in :math:`O(2^n n)` with exact (Python) integers. The fewest robots is the
+   least :math:`j` with :math:`N_j(\{1..n\}) > 0`; the routes are recovered one at a
+   time (the route through the lowest remaining KPOI whose complement still has
+   :math:`N_{j-1} > 0`). When rounding makes :math:`F` not downward closed (a
+   non-metric matrix), the set-partitioning MILP decides instead, in HiGHS:
 
    .. math::
        \min \sum_S y_S \quad \text{s.t.} \quad \sum_{S \ni i} y_S = 1 \quad (i = 1..n).
 
 3. ``min_makespan(k)``: the optimal makespan is one of the distinct route costs
    :math:`c(S)`. Bisection over them, sorted: a value :math:`T` is achievable iff
-   ``min_robots(T) <= k``. The smallest achievable value is the optimum.
+   ``min_robots(T) <= k`` (:math:`N_k > 0`). The smallest achievable value is the optimum.
 
 Zero distances need no special care here: the dynamic programme enumerates routes
 explicitly, so no zero-length cycle can stand in for a route.
@@ -131,7 +147,7 @@ def _cover_model(table: RouteTable, masks: np.ndarray) -> highspy.HighsLp:
 
 def _fewest_routes(table: RouteTable, costs: np.ndarray, deadline: float,
                    time_limit: float | None) -> tuple[LpSolve, np.ndarray]:
-    """Solve the set-partitioning model over subsets within ``deadline``."""
+    """Solve the set-partitioning MILP over subsets within ``deadline`` (HiGHS)."""
     masks = np.flatnonzero(within(costs, deadline))
     masks = masks[masks > 0]
     singles = 1 << np.arange(table.n)
@@ -149,6 +165,99 @@ def _chosen_routes(
     return [table.route(int(mask), tours=tours) for mask in picked]
 
 
+class RouteCounter:
+    """Route sets within a deadline, counted by inclusion-exclusion (module docstring, 2).
+
+    Parameters
+    ----------
+    family : numpy.ndarray
+        Boolean, indexed by subset mask: whether the subset's cheapest route meets the
+        deadline. ``family[0]`` (the empty route) must be True and the family downward
+        closed (:func:`downward_closed`).
+    """
+
+    def __init__(self, family: np.ndarray) -> None:
+        self.n = int(len(family)).bit_length() - 1
+        self.family = family
+        self.z = _subset_sums(family.astype(np.int64), +1).astype(object)  # z(R), exact ints
+        self.full = len(family) - 1
+        outside = self.n - _popcount(np.arange(len(family)))
+        self.sign = np.where(outside % 2 == 0, 1, -1).astype(object)  # (-1)^(n - |R|)
+
+    def covers(self, j: int) -> bool:
+        """Whether the KPOIs split into at most ``j`` routes of the family: N_j(full) > 0."""
+        return sum(self.sign * self.z**j) > 0
+
+    def partitions(self, j: int) -> np.ndarray:
+        """``N_j(S)`` for every subset ``S``: ``j``-tuples of family members with union ``S``."""
+        if j == 0:
+            return (np.arange(len(self.family)) == 0).astype(np.int64).astype(object)
+        return _subset_sums(self.z**j, -1)
+
+    def fewest(self) -> int | None:
+        """The fewest routes of the family covering every KPOI, None if no number does."""
+        return next((j for j in range(1, self.n + 1) if self.covers(j)), None)
+
+    def split(self, j: int) -> list[int]:
+        """Masks of at most ``j`` disjoint family members covering every KPOI.
+
+        Requires :meth:`covers` ``(j)``. Each step takes, among the members holding the
+        lowest uncovered KPOI, the largest (then the smallest mask) whose complement
+        still splits into the routes left.
+        """
+        masks = np.arange(len(self.family))
+        left, chosen = self.full, []
+        for rest in range(j - 1, -1, -1):
+            if left == 0:
+                break
+            remainder = self.partitions(rest)
+            lowest = left & -left
+            fits = self.family & ((masks & ~left) == 0) & ((masks & lowest) != 0)
+            candidates = masks[fits]
+            candidates = candidates[(remainder[left ^ candidates] > 0).astype(bool)]
+            pick = candidates[np.lexsort((candidates, -_popcount(candidates)))[0]]
+            chosen.append(int(pick))
+            left ^= int(pick)
+        return chosen
+
+
+def route_family(costs: np.ndarray, deadline: float) -> np.ndarray:
+    """Which subsets' cheapest routes meet ``deadline`` (the empty one always does)."""
+    family = within(costs, deadline)
+    family[0] = True
+    return family
+
+
+def downward_closed(family: np.ndarray) -> bool:
+    """Whether every subset of a member of ``family`` is a member too."""
+    has_member_above = _subset_sums(family.astype(np.int64), +1, supersets=True) > 0
+    return bool(np.all(family | ~has_member_above))
+
+
+def _subset_sums(values: np.ndarray, sign: int, *, supersets: bool = False) -> np.ndarray:
+    """Zeta (``sign=+1``) or Moebius (``-1``) transform over subsets, or over supersets.
+
+    Zeta: ``out[S] = sum of values[R] for R subset of S`` (superset: ``R`` superset of
+    ``S``); Moebius inverts it. One pass per bit, ``O(2^n n)``; works on object arrays
+    (exact integers) as on numeric ones.
+    """
+    out = values.copy()
+    n = int(len(out)).bit_length() - 1
+    for b in range(n):
+        pairs = out.reshape(-1, 2, 1 << b)
+        if supersets:
+            pairs[:, 0, :] += sign * pairs[:, 1, :]
+        else:
+            pairs[:, 1, :] += sign * pairs[:, 0, :]
+    return out
+
+
+def _counter(costs: np.ndarray, deadline: float) -> RouteCounter | None:
+    """The counter of the routes within ``deadline``, None when they are not downward closed."""
+    family = route_family(costs, deadline)
+    return RouteCounter(family) if downward_closed(family) else None
+
+
 def min_robots(
     D: np.ndarray,
     deadline: float,
@@ -157,7 +266,7 @@ def min_robots(
     time_limit: float | None = None,
     warm_start: list[list[int]] | None = None,
 ) -> MilpResult:
-    """Fewest robots whose routes all meet ``deadline`` (set partitioning).
+    """Fewest robots whose routes all meet ``deadline`` (counting, else set partitioning).
 
     Parameters and return value as :func:`milp.arcflow.min_robots`; ``warm_start`` is
     only checked (the model is solved from scratch). Raises ValueError for ``n > 16``.
@@ -168,6 +277,16 @@ def min_robots(
         check_routes(warm_start, len(D) - 1)
     table = RouteTable(D)
     costs = table.costs(tours=tours)
+    counter = _counter(costs, deadline)
+    if counter is not None:
+        fewest = counter.fewest()
+        if fewest is None:
+            return MilpResult("infeasible", seconds=time.perf_counter() - began,
+                              message="a KPOI alone exceeds the deadline")
+        routes = [table.route(mask, tours=tours) for mask in counter.split(fewest)]
+        count = float(len(routes))
+        return MilpResult("optimal", routes, count, count, 0.0, 0, time.perf_counter() - began,
+                          "inclusion-exclusion count")
     solve, masks = _fewest_routes(table, costs, deadline, time_limit)
     if solve.status == "infeasible":
         return MilpResult("infeasible", seconds=time.perf_counter() - began, message=solve.message)
@@ -208,7 +327,8 @@ def min_makespan(
     floor = costs[1 << np.arange(table.n)].max()  # no route set beats its costliest single
     values = values[values >= floor]
     lo, hi = 0, int(np.searchsorted(values, costs[-1]))  # values[hi]: everything in one route
-    best = [table.route(len(costs) - 1, tours=tours)]
+    best: list[list[int]] | RouteCounter = [table.route(len(costs) - 1, tours=tours)]
+    most = min(k, table.n)
     nodes, message = 0, "bisection over route costs"
     while lo < hi:
         mid = (lo + hi) // 2
@@ -216,6 +336,13 @@ def min_makespan(
         if remaining is not None and remaining <= 0:
             message = "time limit"
             break
+        counter = _counter(costs, values[mid])
+        if counter is not None:  # exact count; the routes are recovered once, at the end
+            if counter.covers(most):
+                hi, best = mid, counter
+            else:
+                lo = mid + 1
+            continue
         solve, masks = _fewest_routes(table, costs, values[mid], remaining)
         nodes += solve.nodes
         if solve.status == "optimal" and solve.objective <= k + 0.5:
@@ -227,7 +354,9 @@ def min_makespan(
         else:
             message = solve.message
             break
-    value = max(table.costs(tours=tours)[_mask(r)] for r in best)
+    if isinstance(best, RouteCounter):
+        best = [table.route(mask, tours=tours) for mask in best.split(most)]
+    value = max(costs[_mask(r)] for r in best)
     status = "optimal" if lo == hi else "feasible"
     bound = float(value) if status == "optimal" else float(values[lo])
     return MilpResult(status, best, float(value), bound, relative_gap(float(value), bound), nodes,

@@ -3,11 +3,14 @@
 The models work on the distance matrix alone (start at index 0); this module hands
 them the matrix, a warm start, and maps their answer back to a
 :class:`~parcover.problem.Solution`, which :func:`parcover.solve` then verifies
-independently. Three methods:
+independently. Four methods:
 
-- ``exact``: the compact arc-flow model solved by HiGHS (:mod:`milp.arcflow`);
-- ``setpart``: Held-Karp route enumeration and set partitioning (:mod:`milp.setpart`),
-  an independent second exact method for up to 16 KPOIs;
+- ``exact`` (the default): ``setpart`` up to :data:`milp.setpart.MAX_KPOIS` KPOIs,
+  where it is the fastest (a fraction of a second), ``compact`` above;
+- ``compact``: the compact arc-flow model solved by HiGHS (:mod:`milp.arcflow`);
+- ``setpart``: Held-Karp route enumeration and set partitioning by inclusion-exclusion
+  counting (:mod:`milp.setpart`), an exact method independent of the compact model,
+  for up to 16 KPOIs;
 - ``cvxpy``: the compact model written in cvxpy for reading (:mod:`milp.cvx`).
 """
 
@@ -21,7 +24,7 @@ from parcover.instance import Instance
 from parcover.problem import MethodInfo, Problem, Solution
 from parcover.result import Status
 
-__all__ = ["exact", "setpart", "cvxpy_model", "METHODS", "warm_start_routes"]
+__all__ = ["exact", "compact", "setpart", "cvxpy_model", "METHODS", "warm_start_routes"]
 
 _STATUS = {"optimal": Status.OPTIMAL, "infeasible": Status.INFEASIBLE, "unknown": Status.UNKNOWN}
 
@@ -32,6 +35,33 @@ _WARM_ROUNDS = 10
 
 
 def exact(
+    instance: Instance,
+    problem: Problem,
+    *,
+    time_limit: float | None = None,
+    seed: int = 0,
+    warm_start: list[list[int]] | None = None,
+    export_model: str | None = None,
+) -> Solution:
+    """Proven optimum within ``time_limit``: :func:`setpart` for small instances, else :func:`compact`.
+
+    ``info["model"]`` names the one used. Options as :func:`compact` (``warm_start`` is
+    only checked by ``setpart``; ``export_model`` always writes the compact model).
+    """
+    from milp import setpart as model
+
+    if instance.n > model.MAX_KPOIS:
+        return compact(instance, problem, time_limit=time_limit, seed=seed, warm_start=warm_start,
+                       export_model=export_model)
+    if export_model:
+        _export(instance, problem, export_model)
+    solution = _run(model.min_makespan, model.min_robots, instance, problem, time_limit,
+                    warm_start=warm_start)
+    solution.info["model"] = "setpart"
+    return solution
+
+
+def compact(
     instance: Instance,
     problem: Problem,
     *,
@@ -51,7 +81,10 @@ def exact(
     start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
     if export_model:
         _export(instance, problem, export_model)
-    return _run(arcflow.min_makespan, arcflow.min_robots, instance, problem, time_limit, warm_start=start)
+    solution = _run(arcflow.min_makespan, arcflow.min_robots, instance, problem, time_limit,
+                    warm_start=start)
+    solution.info["model"] = "compact"
+    return solution
 
 
 def _export(instance: Instance, problem: Problem, path: str) -> None:
@@ -130,7 +163,9 @@ def _run(
 
 
 METHODS = (
-    MethodInfo("exact", exact, "proven optimum: compact arc-flow MILP in HiGHS (default)", ("warm_start", "export_model")),
-    MethodInfo("setpart", setpart, "proven optimum: Held-Karp routes + set partitioning (n <= 16)"),
+    MethodInfo("exact", exact, "proven optimum: setpart up to 16 KPOIs, compact above (default)",
+               ("warm_start", "export_model")),
+    MethodInfo("compact", compact, "proven optimum: compact arc-flow MILP in HiGHS", ("warm_start", "export_model")),
+    MethodInfo("setpart", setpart, "proven optimum: Held-Karp routes + counting set partitions (n <= 16)"),
     MethodInfo("cvxpy", cvxpy_model, "proven optimum: the compact model written in cvxpy (slow, for reading)"),
 )

@@ -1,4 +1,4 @@
-"""The exact methods through parcover: three models agree, exports reproduce the optimum."""
+"""The exact methods through parcover: four methods agree, exports reproduce the optimum."""
 
 from __future__ import annotations
 
@@ -15,11 +15,11 @@ CASES = [generate.random_points(7, 11), generate.random_graph(6, 5, virtual=8)]
 @pytest.mark.parametrize("question", [{"robots": 2}, {}])
 def test_three_exact_methods_agree(instance, routes, question):
     values = []
-    for method in ("exact", "setpart", "cvxpy"):
+    for method in ("exact", "compact", "setpart", "cvxpy"):
         result = solve(instance, routes, method=method, **question)
         assert result.status is Status.OPTIMAL, method
         values.append(result.value)
-    assert values == pytest.approx([values[0]] * 3, rel=1e-6)
+    assert values == pytest.approx([values[0]] * 4, rel=1e-6)
 
 
 def test_fig1_grid_optimal_makespans_8_4_4(fig1_grid):

@@ -37,7 +37,7 @@ DEFAULT_ITERATIONS = 30
 """Ruin-and-recreate rounds when neither a time limit nor ``iterations`` is given
 (about a second for 50 KPOIs)."""
 
-_NOT_STARTS = frozenset({"best", "trivial", "exact", "setpart", "cvxpy"})
+_NOT_STARTS = frozenset({"best", "trivial", "exact", "compact", "setpart", "cvxpy"})
 _CHAIN = 3  # longest chain of KPOIs moved by or-opt / relocate
 _GRANULARITY = 20  # relocate tries slots next to this many nearest KPOIs
 

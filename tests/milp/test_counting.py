@@ -1,0 +1,85 @@
+"""setpart's inclusion-exclusion counting against brute force and against the HiGHS model."""
+
+from __future__ import annotations
+
+import functools
+import itertools
+import operator
+
+import numpy as np
+import pytest
+
+import parcover
+from milp import setpart
+from milp.routes import route_cost
+
+from milp_helpers import euclidean
+
+
+def brute_counts(family: np.ndarray, j: int) -> int:
+    """j-tuples of family members whose union is every element (plain enumeration)."""
+    members = np.flatnonzero(family)
+    full = len(family) - 1
+    return sum(1 for tup in itertools.product(members, repeat=j)
+               if functools.reduce(operator.or_, map(int, tup), 0) == full)
+
+
+def test_counts_match_enumeration_on_a_hand_family():
+    # 3 elements; the family: empty, each single, {1,2} (mask 3). Downward closed.
+    family = np.zeros(8, dtype=bool)
+    family[[0, 1, 2, 4, 3]] = True
+    assert setpart.downward_closed(family)
+    counter = setpart.RouteCounter(family)
+    # by hand: 2-tuples covering {1,2,3} must contain {3} (mask 4) and {1,2} (mask 3): 2 orders
+    assert brute_counts(family, 2) == 2
+    assert counter.partitions(2)[7] == 2 and counter.covers(2)
+    assert not counter.covers(1)
+    assert counter.fewest() == 2
+    assert sorted(counter.split(2)) == [3, 4]
+    for j in range(4):
+        assert counter.partitions(j)[7] == brute_counts(family, j)
+
+
+def test_a_family_missing_a_subset_is_not_downward_closed():
+    family = np.zeros(8, dtype=bool)
+    family[[0, 1, 2, 3, 7]] = True  # {1,2,3} in, {3} out
+    assert not setpart.downward_closed(family)
+
+
+@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("tours", [False, True])
+def test_counting_and_milp_give_the_same_fewest_routes(seed, tours):
+    D = euclidean(9, seed)
+    table = setpart.RouteTable(D)
+    costs = table.costs(tours=tours)
+    least = (2 if tours else 1) * D[0, 1:].max()
+    for factor in (1.0, 1.3, 2.0):
+        counter = setpart.RouteCounter(setpart.route_family(costs, factor * least))
+        solve, _ = setpart._fewest_routes(table, costs, factor * least, None)
+        assert counter.fewest() == round(solve.objective)
+        masks = counter.split(counter.fewest())
+        assert sorted(i for m in masks for i in range(9) if m >> i & 1) == list(range(9))
+        assert all(route_cost(D, table.route(m, tours=tours), tours=tours) <= factor * least + 1e-9
+                   for m in masks)
+
+
+def test_a_family_that_is_not_downward_closed_is_solved_by_the_milp():
+    # Out of the metric contract (D[1, 3] = 10 > D[1, 2] + D[2, 3]): route 0-1-2-3 costs 3
+    # while KPOIs {1, 3} alone cost 11, so within 3 the family holds {1, 2, 3} but not
+    # {1, 3}. By hand: one robot suffices within 3; with 2 robots {1, 2} + {3} give 2.
+    D = np.array([[0, 1, 1, 1], [1, 0, 1, 10], [1, 1, 0, 1], [1, 10, 1, 0]], dtype=float)
+    table = setpart.RouteTable(D)
+    assert not setpart.downward_closed(setpart.route_family(table.costs(tours=False), 3.0))
+    result = setpart.min_robots(D, 3.0, tours=False)
+    assert result.status == "optimal" and result.objective == 1
+    assert result.message != "inclusion-exclusion count"
+    assert setpart.min_makespan(D, 2, tours=False).objective == pytest.approx(2.0)
+
+
+def test_exact_uses_setpart_up_to_16_kpois_and_compact_above():
+    small = parcover.generate.random_points(8, 3)
+    assert parcover.solve(small, robots=2).info["model"] == "setpart"
+    line = parcover.Instance.from_points([(i, 0) for i in range(18)])  # 17 KPOIs on a line
+    result = parcover.solve(line, robots=2, time_limit=60)
+    assert result.info["model"] == "compact"
+    assert result.makespan == pytest.approx(17) and result.status is parcover.Status.OPTIMAL
