@@ -3,7 +3,9 @@
 The full run writes ``reports/benchmarks.md`` with its figures and CSVs in
 ``reports/benchmarks/``; ``--quick`` (a smoke run of a few minutes, for CI) writes
 ``reports/benchmarks-quick.md`` unless ``--out`` says otherwise. ``--sections`` runs
-some of them only. The report starts with the command, the machine and the package
+some of them only: each section's text is also kept in ``<figures>/<section>.json``, and
+the report shows the sections not run this time from there, each with the date and
+command of its own run. The report starts with the command, the machine and the package
 versions; it ends with the issue's targets and the figures reached.
 """
 
@@ -11,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import json
 import shlex
 import sys
 import time
@@ -38,26 +41,49 @@ def main(argv: list[str] | None = None) -> int:
     figures.mkdir(parents=True, exist_ok=True)
     config = Config(quick=args.quick, figures=figures, figures_link=figures.name)
     command = "python -m benchmarks " + " ".join(shlex.quote(a) for a in (sys.argv[1:] if argv is None else argv))
-    sections = []
     for name in names:
         config.log(f"[benchmarks] {name} ...")
         began = time.perf_counter()
         section: Section = importlib.import_module(f"benchmarks.{name}").run(config)
-        config.log(f"[benchmarks] {name} done in {time.perf_counter() - began:.0f} s")
+        minutes = (time.perf_counter() - began) / 60
+        config.log(f"[benchmarks] {name} done in {minutes * 60:.0f} s")
         for table, frame in section.tables.items():
             frame.to_csv(figures / f"{table}.csv", index=False)
-        sections.append(section)
+        save_section(section, figures / f"{name}.json", command.strip(), minutes)
+    sections = [json.loads(path.read_text(encoding="utf-8"))
+                for path in (figures / f"{name}.json" for name in SECTIONS) if path.exists()]
     out.write_text(render(sections, command.strip()), encoding="utf-8")
     config.log(f"[benchmarks] wrote {out}")
     return 0
 
 
-def render(sections: list[Section], command: str) -> str:
-    """The report: header (command, machine, versions), the sections, the targets."""
+def save_section(section: Section, path: Path, command: str, minutes: float) -> None:
+    """Keep a section's text, targets and provenance (when, machine, command) as JSON."""
+    saved = {"title": section.title, "markdown": section.markdown, "targets": section.targets,
+             "command": command, "written": _now(), "minutes": round(minutes, 1), "machine": _machine()}
+    path.write_text(json.dumps(saved, indent=1) + "\n", encoding="utf-8")
+
+
+def _now() -> str:
+    return time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+
+
+def _machine() -> str:
+    """One line: CPU, cores, memory, platform, Python and the package versions."""
     from parcover.report import machine_info, package_version
 
     machine = machine_info()
     versions = ", ".join(f"{name} {package_version(name) or 'not installed'}" for name in PACKAGES)
+    return (f"{machine['cpu']}, {machine['cores']} cores, {machine['memory_gb']} GB, "
+            f"{machine['platform']}, Python {machine['python']}; {versions}")
+
+
+def render(sections: list[dict], command: str) -> str:
+    """The report: header (command, machine, versions), the sections, the targets.
+
+    ``sections`` are saved sections (:func:`save_section`); one run by another command
+    than this one says when, how and on what it ran.
+    """
     lines = [
         "# Benchmarks",
         "",
@@ -65,16 +91,18 @@ def render(sections: list[Section], command: str) -> str:
         "",
         f"    {command}",
         "",
-        f"- machine: {machine['cpu']}, {machine['cores']} cores, {machine['memory_gb']} GB, "
-        f"{machine['platform']}, Python {machine['python']}",
-        f"- packages: {versions}",
-        f"- written {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. Machines here are shared and noisy:",
+        f"- machine and packages: {_machine()}",
+        f"- written {_now()}. Machines here are shared and noisy:",
         "  compare the ratios between methods measured in the same run, not absolute seconds.",
+        "- a section can be rerun alone (`--sections NAME`); each says when and how it ran.",
         "",
     ]
     for section in sections:
-        lines += [f"## {section.title}", "", section.markdown.strip(), ""]
-    targets = [t for s in sections for t in s.targets]
+        provenance = f"Run {section['written']} in {section['minutes']:g} min: `{section['command']}`"
+        if section["command"] != command:
+            provenance += f" (machine: {section['machine']})"
+        lines += [f"## {section['title']}", "", f"*{provenance}.*", "", section["markdown"].strip(), ""]
+    targets = [t for s in sections for t in s["targets"]]
     if targets:
         lines += ["## Targets", "", *[f"- {t}" for t in targets], ""]
     return "\n".join(lines)

@@ -88,8 +88,21 @@ def test_quick_section_on_tiny_grid(tmp_path, monkeypatch) -> None:
     ratios = section.tables["exact_scaling_ratios"]
     compact = frame[frame["model"] == "compact"].set_index("problem")["seconds"]
     setpart_s = frame[frame["model"] == "setpart"].set_index("problem")["seconds"]
-    for row in ratios.to_dict("records"):
-        expected = setpart_s[row["problem"]] / max(compact[row["problem"]], 1e-3)
-        assert row["setpart / compact"] == f"{expected:.3g}"
+    for row in ratios.to_dict("records"):  # ours is set partitioning at n = 5
+        assert row["ours"] == "setpart" and row["setpart / ours"] == "-"
+        expected = compact[row["problem"]] / max(setpart_s[row["problem"]], 1e-3)
+        assert row["compact / ours"] == f"{expected:.3g}"
     assert (tmp_path / "exact_scaling.png").exists()
     assert len(section.targets) == 4
+
+
+def test_full_grid_covers_the_issue() -> None:
+    cells = exact_scaling.grid(quick=False)
+    assert {c["n"] for c in cells} == {10, 15, 20, 25, 30, 40, 50}
+    k3 = [c for c in cells if c["routes"] == "paths" and c["k"] == 3 and "compact" in c["models"]]
+    assert sorted((c["n"], c["seed"]) for c in k3) == [(n, s) for n in exact_scaling.SIZES for s in (1, 2, 3)]
+    for routes in ("paths", "tours"):
+        for k, factor in ((2, None), (3, None), (5, None), (None, 1.0), (None, 1.2)):
+            sizes = {c["n"] for c in cells if c["routes"] == routes and c["k"] == k and c["factor"] == factor}
+            assert sizes == set(exact_scaling.SIZES), (routes, k, factor)
+    assert any(c["models"] == ("plain",) and c["n"] == 20 and c["limit"] >= 120 for c in cells)

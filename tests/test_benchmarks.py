@@ -51,3 +51,14 @@ def test_unknown_section_is_one_line():
     assert done.returncode == 2
     assert "unknown section 'nope'" in done.stderr
     assert "Traceback" not in done.stderr
+
+
+def test_rerunning_one_section_keeps_the_others_with_their_provenance(quick_report):
+    before = quick_report.read_text()
+    assert main(["--quick", "--out", str(quick_report), "--sections", "maps_speed"]) == 0
+    after = quick_report.read_text()
+    headings = [line for line in after.splitlines() if line.startswith("## ")]
+    assert headings == [line for line in before.splitlines() if line.startswith("## ")]
+    # the sections not rerun say which command made them, and on what machine
+    assert after.count("(machine: ") == len(SECTIONS) - 1
+    assert "--sections maps_speed`." in after
