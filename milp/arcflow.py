@@ -453,8 +453,10 @@ def min_robots(
     if merged.size == 0:
         return _proven(D, merged.expand([]), tours, 1, began, "every KPOI is at the start")
     budget = None if time_limit is None else HEURISTIC_SHARE * time_limit
-    fewest = colgen.robots_lower_bound(merged.D, deadline, tours=tours, time_limit=budget)
-    start = _robots_start(merged, deadline, fewest, tours, warm_start, budget)
+    info = colgen.robots_bound(merged.D, deadline, tours=tours, time_limit=budget, routes=True)
+    fewest = info.robots()
+    given = [info.routes] + ([merged.reduce(warm_start)] if warm_start is not None else [])
+    start = _robots_start(merged, deadline, fewest, tours, given, budget)
     if len(start) <= fewest:
         return _proven(D, merged.expand(start), tours, len(start), began,
                        "heuristic meets the column-generation bound")
@@ -480,18 +482,18 @@ def _remaining(time_limit: float | None, began: float, reserve: float = 0.0) -> 
 
 def _robots_start(
     merged: Merged, deadline: float, fewest: int, tours: bool,
-    warm_start: list[list[int]] | None, seconds: float | None,
+    given: list[list[list[int]]], seconds: float | None,
 ) -> list[list[int]]:
-    """Fewest routes found by the heuristics (and the given warm start), model space.
+    """Fewest routes found by the heuristics and the ``given`` solutions, model space.
 
-    The nearest-neighbour split gives a count ``h``; then ``q = fewest, ..., h - 1``
-    routes are tried with :func:`milp.warmstart.good_makespan_routes` until one meets
-    the deadline.
+    ``given`` are valid route sets in model space (empty ones are skipped): the
+    column-generation master's and the caller's warm start. The nearest-neighbour split
+    gives a count ``h``; then ``q = fewest, ..., h - 1`` routes are tried with
+    :func:`milp.warmstart.good_makespan_routes` until one meets the deadline.
     """
     order = nearest_neighbour_order(merged.D)
     candidates = [split_min_robots(merged.D, order, deadline, tours=tours)]
-    if warm_start is not None:
-        candidates.append(merged.reduce(warm_start))
+    candidates += [routes for routes in given if routes]
     began = time.perf_counter()
     for q in range(fewest, min(map(len, candidates))):
         if seconds is not None and time.perf_counter() - began > seconds:

@@ -83,12 +83,13 @@ from dataclasses import dataclass, field
 
 import highspy
 import numpy as np
+from scipy import sparse
 
 from milp.bounds import makespan_lower_bound as tree_lower_bound
 from milp.bounds import robots_lower_bound as tree_robots_bound
-from milp.highs import new_highs
+from milp.highs import make_lp, new_highs, solve_lp
 from milp.merge import merge_zero_distances
-from milp.routes import check_distance_matrix, least_makespan
+from milp.routes import check_distance_matrix, least_makespan, route_cost, within
 
 #: Grid steps over the upper bound: :math:`\delta = \text{upper} / \text{GRID}`.
 GRID = 1000
@@ -120,6 +121,10 @@ class BoundInfo:
         Wall-clock time.
     message : str
         Why it stopped.
+    routes : list of list of int
+        :func:`robots_bound` with ``routes=True``: routes within the deadline from the
+        generated columns (:func:`master_routes`), in the indices of the merged matrix
+        (:func:`milp.merge.merge_zero_distances`); else empty.
     """
 
     bound: float
@@ -128,6 +133,12 @@ class BoundInfo:
     columns: int = 0
     seconds: float = 0.0
     message: str = ""
+    routes: list[list[int]] = field(default_factory=list)
+
+    def robots(self) -> int:
+        """The robot count this bound proves: ``bound`` rounded up (1e-6 tolerance for
+        round-off), never below ``trivial``."""
+        return max(int(self.trivial), math.ceil(self.bound - 1e-6))
 
 
 class _Pricer:
@@ -231,6 +242,7 @@ class _Master:
     def __init__(self, n: int) -> None:
         self.n = n
         self.pool: list[np.ndarray] = []  # visit counts per walk
+        self.orders: list[np.ndarray] = []  # each walk's KPOIs in order of first visit
         self.need: list[int] = []
         self.seen: set[bytes] = set()
 
@@ -243,6 +255,7 @@ class _Master:
             if key not in self.seen:
                 self.seen.add(key)
                 self.pool.append(counts)
+                self.orders.append(walk[np.sort(np.unique(walk, return_index=True)[1])])
                 self.need.append(need)
                 fresh.append(len(self.pool) - 1)
         return fresh
@@ -411,11 +424,14 @@ def makespan_lower_bound(
 
 def robots_bound(
     D: np.ndarray, deadline: float, *, tours: bool, time_limit: float | None = None,
+    routes: bool = False,
 ) -> BoundInfo:
     """Certified lower bound (float) on the fewest routes within ``deadline``, with details.
 
-    ``bound`` is the LP bound (4) at ``T = deadline``; round it up for a robot count.
-    ``trivial`` is the spanning-tree count of :func:`milp.bounds.robots_lower_bound`.
+    ``bound`` is the LP bound (4) at ``T = deadline``; round it up for a robot count
+    (:meth:`BoundInfo.robots`). ``trivial`` is the spanning-tree count of
+    :func:`milp.bounds.robots_lower_bound`. With ``routes``, ``info.routes`` also holds a
+    solution from the generated columns (:func:`master_routes`, within ``time_limit``).
     Raises ValueError when ``deadline`` is below ``c_max`` / ``2 c_max`` (no solution).
     """
     began = time.perf_counter()
@@ -437,8 +453,46 @@ def robots_bound(
     farley, value, its, why = _fewest_routes_lp(master, pricer, L, None, stop_at)
     info.steps.append((deadline, False, farley, value, its))
     info.bound, info.columns, info.message = max(farley, trivial), len(master.pool), why
+    if routes:
+        left = None if time_limit is None else max(time_limit - (time.perf_counter() - began), 0.05)
+        info.routes = master_routes(master, ready[0], deadline, tours=tours, time_limit=left)
     info.seconds = time.perf_counter() - began
     return info
+
+
+def master_routes(master: _Master, D: np.ndarray, deadline: float, *, tours: bool,
+                  time_limit: float | None) -> list[list[int]]:
+    r"""Fewest routes from the generated columns: the restricted master as an integer program.
+
+    Each walk of the pool becomes the route through its KPOIs in order of first visit
+    (no longer than the walk, by the triangle inequality); those whose real cost meets
+    ``deadline`` are the columns of the set-covering integer program (1)-(3) with
+    :math:`\lambda` binary, solved by HiGHS within ``time_limit`` (a "price-and-branch"
+    heuristic: it proves nothing, the caller's model does). A KPOI covered twice stays
+    on the first chosen route only, which again shortens the others. Empty when no
+    integer solution was found in time.
+    """
+    orders = [o for o in master.orders if within(route_cost(D, list(o), tours=tours), deadline)]
+    n = master.n
+    if not orders:
+        return []
+    rows = np.concatenate(orders) - 1
+    cols = np.repeat(np.arange(len(orders)), [len(o) for o in orders])
+    matrix = sparse.csc_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, len(orders)))
+    ones = np.ones(len(orders))
+    lp = make_lp(ones, (np.zeros(len(orders)), ones), matrix, (np.ones(n), np.full(n, np.inf)),
+                 np.ones(len(orders), dtype=bool))
+    solve = solve_lp(lp, time_limit=time_limit)
+    if solve.values is None:
+        return []
+    covered: set[int] = set()
+    routes = []
+    for c in np.flatnonzero(solve.values > 0.5):
+        route = [int(i) for i in orders[c] if int(i) not in covered]
+        covered.update(route)
+        if route:
+            routes.append(route)
+    return routes
 
 
 def robots_lower_bound(
@@ -449,5 +503,4 @@ def robots_lower_bound(
     The LP bound of :func:`robots_bound` rounded up (with a 1e-6 tolerance for float
     round-off), never below the spanning-tree count.
     """
-    info = robots_bound(D, deadline, tours=tours, time_limit=time_limit)
-    return max(int(info.trivial), math.ceil(info.bound - 1e-6))
+    return robots_bound(D, deadline, tours=tours, time_limit=time_limit).robots()

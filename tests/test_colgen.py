@@ -115,3 +115,18 @@ def test_pricing_value_covers_every_real_route(tours):
     assert M >= best - 1e-12
     # The traced best walk is worth M.
     assert prize[walks[0] - 1].sum() == pytest.approx(M)
+
+
+@pytest.mark.parametrize("n, seed, tours", [(8, 21, False), (9, 22, True), (12, 23, False), (25, 24, True)])
+def test_master_routes_are_valid_and_no_fewer_than_the_optimum(n, seed, tours):
+    from milp.routes import check_routes, route_cost, within
+
+    D = _euclidean(n, seed)
+    for factor in (1.0, 1.3):
+        deadline = factor * least_makespan(D, tours=tours)
+        info = colgen.robots_bound(D, deadline, tours=tours, routes=True)
+        check_routes(info.routes, n)  # every KPOI on exactly one route
+        assert all(within(route_cost(D, r, tours=tours), deadline) for r in info.routes)
+        assert len(info.routes) >= info.robots()
+        if n <= 12:
+            assert len(info.routes) >= setpart.min_robots(D, deadline, tours=tours).objective
