@@ -15,11 +15,12 @@ import argparse
 import importlib
 import json
 import shlex
+import subprocess
 import sys
 import time
 from pathlib import Path
 
-from benchmarks.common import Config, Section
+from benchmarks.common import ROOT, Config, Section
 
 SECTIONS = ("greedy_scaling", "exact_scaling", "heuristic_quality", "mtsp_literature", "maps_speed")
 PACKAGES = ("numpy", "scipy", "pandas", "highspy", "cvxpy", "networkx", "ortools", "pyvrp")
@@ -60,8 +61,21 @@ def main(argv: list[str] | None = None) -> int:
 def save_section(section: Section, path: Path, command: str, minutes: float) -> None:
     """Keep a section's text, targets and provenance (when, machine, command) as JSON."""
     saved = {"title": section.title, "markdown": section.markdown, "targets": section.targets,
-             "command": command, "written": _now(), "minutes": round(minutes, 1), "machine": _machine()}
+             "command": command, "written": _now(), "minutes": round(minutes, 1), "machine": _machine(),
+             "commit": _commit()}
     path.write_text(json.dumps(saved, indent=1) + "\n", encoding="utf-8")
+
+
+def _commit() -> str:
+    """The git commit the code ran from (``+ local changes`` when the tree was dirty)."""
+    try:
+        head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                              text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=ROOT,
+                               capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown (not a git checkout)"
+    return head + (" + local changes" if dirty else "")
 
 
 def _now() -> str:
@@ -98,7 +112,8 @@ def render(sections: list[dict], command: str) -> str:
         "",
     ]
     for section in sections:
-        provenance = f"Run {section['written']} in {section['minutes']:g} min: `{section['command']}`"
+        provenance = (f"Run {section['written']} in {section['minutes']:g} min from commit "
+                      f"{section.get('commit', 'unknown')}: `{section['command']}`")
         if section["command"] != command:
             provenance += f" (machine: {section['machine']})"
         lines += [f"## {section['title']}", "", f"*{provenance}.*", "", section["markdown"].strip(), ""]
