@@ -69,8 +69,11 @@ def test_ratio_counts_unproven_peer_at_its_limit() -> None:
     assert exact_scaling.ratio({"status": "optimal", "seconds": 5.0, "limit": 30.0}, compact) == "2.5"
     # not proven within its 30 s: at least 30 / 2 = 15 times slower
     assert exact_scaling.ratio({"status": "feasible", "seconds": 30.1, "limit": 30.0}, compact) == ">= 15"
-    # compact not proven: no ratio
+    # ours not proven within its 10 s, the peer proven in 5 s: at most 5 / 10 (peer faster)
     assert exact_scaling.ratio({"status": "optimal", "seconds": 5.0, "limit": 30.0},
+                               {"status": "feasible", "seconds": 10.0, "limit": 10.0}) == "<= 0.5"
+    # neither proven: no ratio
+    assert exact_scaling.ratio({"status": "feasible", "seconds": 30.0, "limit": 30.0},
                                {"status": "feasible", "seconds": 10.0, "limit": 10.0}) == "-"
 
 
