@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from hypothesis import strategies as st
 
-from parcover import Instance
+from parcover import Instance, Problem
 from parcover.generate import random_graph
 
 
@@ -36,3 +36,13 @@ def graph_instances(draw: st.DrawFn, min_n: int = 1, max_n: int = 8) -> Instance
 def instances(min_n: int = 1, max_n: int = 8) -> st.SearchStrategy[Instance]:
     """Euclidean or graph instances."""
     return st.one_of(euclidean_instances(min_n, max_n), graph_instances(min_n, max_n))
+
+
+def least_makespan_or_robots(max_robots: int = 4) -> st.SearchStrategy[Problem]:
+    """Paths or tours; ``1..max_robots`` robots (least makespan) or none (fewest
+    robots at the default deadline)."""
+    return st.builds(
+        Problem,
+        st.sampled_from(["paths", "tours"]),
+        robots=st.one_of(st.none(), st.integers(1, max_robots)),
+    )

@@ -5,15 +5,21 @@ exact ones) plus its own min-max cheapest insertion, keeps the best valid answer
 improves it:
 
 * local search with 2-opt and or-opt inside a route and relocate (of chains of 1-3
-  KPOIs, next to one of their 20 nearest KPOIs), swap and 2-opt* between two routes. A move between routes ``a`` and ``b`` is
-  taken when it lowers ``max(c_a, c_b)``, or keeps it and lowers ``c_a + c_b``: the
-  makespan never rises and the sorted route costs fall lexicographically, so the
-  longest route shrinks with the total length as tie-breaker;
+  KPOIs, next to one of their 20 nearest KPOIs), swap and 2-opt* between two routes. A
+  move between routes ``a`` and ``b`` is taken when it lowers ``max(c_a, c_b)``, or
+  keeps it and lowers ``c_a + c_b``: the makespan never rises and the sorted route
+  costs fall lexicographically, so the longest route shrinks with the total length as
+  tie-breaker. After a ruin only the routes it changed (and those changed since) are
+  searched, alone or in pairs;
 * for the robots objective (paper, Problem 2) the route with the fewest KPOIs is
   repeatedly emptied by cheapest insertion of its KPOIs into the others within the
   deadline;
-* ruin and recreate (a seeded random KPOI and its nearest KPOIs are removed and put
-  back by min-max cheapest insertion) while the effort lasts, keeping the best.
+* ruin and recreate while the effort lasts: strings of consecutive KPOIs are removed
+  from the routes nearest a random KPOI (half of the time one of the longest route,
+  the makespan's bottleneck) and put back by min-max cheapest insertion in a random
+  order (slack induction by string removals, SISR); the result is accepted by
+  simulated annealing on the makespan plus a small share of the total length (never
+  with more robots), and the best solution met is kept.
 
 Routes are handled as ``[0, v_1, ..., v_m, E]`` where ``E`` is the start (tours) or a
 dummy end at distance 0 from everything (paths), so both route kinds share every move.
@@ -21,6 +27,7 @@ dummy end at distance 0 from everything (paths), so both route kinds share every
 
 from __future__ import annotations
 
+import math
 import random
 import time
 from typing import Any
@@ -35,11 +42,18 @@ __all__ = ["best", "improve", "min_max_insertion", "DEFAULT_ITERATIONS", "METHOD
 
 DEFAULT_ITERATIONS = 30
 """Ruin-and-recreate rounds when neither a time limit nor ``iterations`` is given
-(about a second for 50 KPOIs)."""
+(about half a second for 50 KPOIs)."""
 
 _NOT_STARTS = frozenset({"best", "trivial", "exact", "compact", "setpart", "cvxpy"})
+_CONSTRUCTION_SHARE = 0.025  # of the time limit, for each construction
 _CHAIN = 3  # longest chain of KPOIs moved by or-opt / relocate
 _GRANULARITY = 20  # relocate tries slots next to this many nearest KPOIs
+_T_FIRST = 0.03  # annealing temperature at the first round, times the start's makespan
+_T_LAST = 0.001  # ... and at the last round
+_TOTAL_WEIGHT = 0.05  # weight of the total length in the annealed energy
+_STRING = 10  # longest string removed from a route by the ruin
+_RUINED = 10  # KPOIs removed per round on average (at most)
+_BLINK = 0.01  # probability that the recreate skips an insertion slot
 
 Key = tuple[float, ...]
 
@@ -92,7 +106,8 @@ def best_construction(
     """The valid construction with the least objective key (name, routes).
 
     Every registered method except ``best``, ``trivial`` and the exact ones is tried
-    (each gets a tenth of the time limit); one that raises or answers invalid routes
+    (each gets :data:`_CONSTRUCTION_SHARE` of the time limit, so that most of it is
+    left to the search); one that raises or answers invalid routes
     is skipped. :func:`min_max_insertion` always takes part. Ties go to the
     construction listed first (registry order, then ours).
     """
@@ -100,7 +115,7 @@ def best_construction(
 
     search = _Search(instance, problem)
     candidates: list[tuple[str, list[list[int]]]] = []
-    share = None if time_limit is None else time_limit / 10
+    share = None if time_limit is None else time_limit * _CONSTRUCTION_SHARE
     for name, info in available_methods().items():
         if name in _NOT_STARTS:
             continue
@@ -136,6 +151,13 @@ def improve(
 ) -> tuple[list[list[int]], dict[str, Any]]:
     """Iterated local search from valid ``routes`` (KPOI indices).
 
+    Each round ruins and recreates the current solution, brings it to a local optimum
+    and accepts it by simulated annealing on :func:`_energy`: a worse candidate is
+    taken when its energy exceeds the current one by less than ``-T ln u`` (``u``
+    uniform), the temperature ``T`` falling geometrically from :data:`_T_FIRST` to
+    :data:`_T_LAST` times the start's makespan over the rounds (or the time). The best
+    solution met is kept.
+
     Parameters
     ----------
     routes
@@ -162,18 +184,23 @@ def improve(
     incumbent, incumbent_key = _copy(current), current_key
     if start_key < incumbent_key:
         incumbent, incumbent_key = _copy(start), start_key
+    began = time.perf_counter()
+    scale = max(current_key[-2], search.tol)
     done = 0
     while (iterations is None or done < iterations) and not search.out_of_time():
+        progress = done / iterations if iterations else 0.0
+        if stop is not None:
+            progress = max(progress, (time.perf_counter() - began) / max(stop - began, 1e-9))
+        temperature = scale * _T_FIRST * (_T_LAST / _T_FIRST) ** min(progress, 1.0)
         candidate = _copy(current)
         search.ruin_and_recreate(candidate, rng)
-        candidate = search.polish(candidate)
+        before = {tuple(s) for s in current}
+        search.polish(candidate, {r for r, s in enumerate(candidate) if tuple(s) not in before})
         candidate_key = search.key(candidate)
         done += 1
         if candidate_key < incumbent_key:
             incumbent, incumbent_key = _copy(candidate), candidate_key
-        progress = done / iterations if iterations else 0.0
-        threshold = 0.01 * max(0.0, 1.0 - progress)
-        if candidate_key < current_key or _within(candidate_key, incumbent_key, threshold, problem):
+        if _accepts(candidate_key, current_key, temperature, rng):
             current, current_key = candidate, candidate_key
     final = [s[1:-1] for s in incumbent if len(s) > 2]
     return final, {"start_value": start_key, "value": incumbent_key, "iterations": done}
@@ -183,12 +210,21 @@ def _copy(seqs: list[list[int]]) -> list[list[int]]:
     return [list(s) for s in seqs]
 
 
-def _within(key: Key, incumbent: Key, threshold: float, problem: Problem) -> bool:
-    """Threshold acceptance: as many robots and a makespan at most ``1 + threshold``
-    times the incumbent's."""
-    if problem.objective == "robots":
-        return key[0] <= incumbent[0] and key[1] <= incumbent[1] * (1 + threshold)
-    return key[0] <= incumbent[0] * (1 + threshold)
+def _energy(key: Key) -> float:
+    """What the annealing lowers: the makespan plus :data:`_TOTAL_WEIGHT` times the
+    total length (``key`` ends with makespan and total length)."""
+    return key[-2] + _TOTAL_WEIGHT * key[-1]
+
+
+def _accepts(candidate: Key, current: Key, temperature: float, rng: random.Random) -> bool:
+    """Simulated annealing acceptance; never more robots than the current solution
+    (robots objective: the key then has three entries)."""
+    if candidate < current:
+        return True
+    if len(candidate) == 3 and candidate[0] > current[0]:
+        return False
+    threshold = -temperature * math.log(1.0 - rng.random())
+    return _energy(candidate) < _energy(current) + threshold
 
 
 class _Search:
@@ -205,6 +241,8 @@ class _Search:
         self.robots = problem.robots
         self.deadline = problem.effective_deadline(instance)
         self.neighbours = np.argsort(matrix[1 : n + 1, 1 : n + 1], axis=1, kind="stable") + 1
+        # near[v]: the KPOIs nearest v (nearest first), as Python ints for the hot loops
+        self.near: list[list[int]] = [[], *self.neighbours[:, :_GRANULARITY].tolist()]
         self.stop = stop
 
     # ----- bookkeeping -------------------------------------------------------------
@@ -248,34 +286,34 @@ class _Search:
         """A changed route cost respects the deadline (or does not grow)."""
         return self.deadline is None or new <= self.deadline or new <= old
 
-    def pair_gain(self, ca: float, cb: float, na: float, nb: float) -> bool:
-        """The move lowers ``max(c_a, c_b)`` or keeps it and lowers ``c_a + c_b``."""
-        old, new = max(ca, cb), max(na, nb)
-        if not (self.fits(na, ca) and self.fits(nb, cb)):
-            return False
-        return new < old - self.tol or (new <= old and na + nb < ca + cb - self.tol)
-
     # ----- the search --------------------------------------------------------------
 
-    def polish(self, seqs: list[list[int]]) -> list[list[int]]:
-        """Local search to a local optimum, then (robots objective) route emptying."""
-        self.local_search(seqs)
+    def polish(self, seqs: list[list[int]], dirty: set[int] | None = None) -> list[list[int]]:
+        """Local search to a local optimum (from the routes in ``dirty``, default all),
+        then (robots objective) route emptying."""
+        self.local_search(seqs, dirty)
         if self.robots is None:
             while not self.out_of_time() and self.empty_one_route(seqs):
                 self.local_search(seqs)
         return seqs
 
-    def local_search(self, seqs: list[list[int]]) -> None:
-        """Apply improving moves until none is left (or the time is up)."""
-        improved = True
-        while improved and not self.out_of_time():
-            improved = False
-            for s in seqs:
-                improved |= self.two_opt(s)
-                improved |= self.or_opt(s)
-            improved |= self.relocate(seqs)
-            improved |= self.swap(seqs)
-            improved |= self.two_opt_star(seqs)
+    def local_search(self, seqs: list[list[int]], dirty: set[int] | None = None) -> None:
+        """Apply improving moves until none is left (or the time is up).
+
+        Only routes in ``dirty`` (default: all) or changed since are examined, alone or
+        in pairs: every move's gain depends on the one or two routes it changes, so
+        two routes untouched since a pass without improvement have none left.
+        """
+        active = set(range(len(seqs))) if dirty is None else set(dirty)
+        while active and not self.out_of_time():
+            changed: set[int] = set()
+            for r in sorted(active):
+                if r < len(seqs) and (self.two_opt(seqs[r]) | self.or_opt(seqs[r])):
+                    changed.add(r)
+            self.relocate(seqs, active, changed)
+            self.swap(seqs, active, changed)
+            self.two_opt_star(seqs, active, changed)
+            active = changed
 
     def two_opt(self, s: list[int]) -> bool:
         """Reverse ``s[i..j]`` while that shortens the route (best move each time)."""
@@ -328,11 +366,12 @@ class _Search:
                 i += 1
         return changed
 
-    def relocate(self, seqs: list[list[int]]) -> bool:
+    def relocate(self, seqs: list[list[int]], active: set[int], changed: set[int]) -> None:
         """Move a chain of 1-3 KPOIs (maybe reversed) from one route into another,
         next to one of the :data:`_GRANULARITY` KPOIs nearest its ends or right
-        after the start."""
-        d, changed = self.d, False
+        after the start; between routes of which one is in ``active`` or ``changed``
+        (the routes changed are added to ``changed``)."""
+        d, tol, free = self.d, self.tol, self.deadline is None
         costs = [self.cost(s) for s in seqs]
         where = self.positions(seqs)
         for a in range(len(seqs)):
@@ -347,16 +386,27 @@ class _Search:
                     first, last, before, after = chain[0], chain[-1], sa[i - 1], sa[i + length]
                     inner = sum(d[chain[k]][chain[k + 1]] for k in range(length - 1))
                     na = costs[a] - d[before][first] - d[last][after] + d[before][after] - inner
+                    ca = costs[a]
+                    live = a in active or a in changed
                     for b, k in self.slots(seqs, where, a, first, last):
+                        if not (live or b in active or b in changed):
+                            continue
                         sb, cb = seqs[b], costs[b]
                         u, v = sb[k], sb[k + 1]
                         base = cb + inner - d[u][v]
+                        old = ca if ca > cb else cb
                         for flip in (False, True):
                             x, y = (last, first) if flip else (first, last)
                             nb = base + d[u][x] + d[y][v]
-                            if not self.pair_gain(costs[a], cb, na, nb):
+                            # the gain test of the module docstring, inlined (hot loop)
+                            new = na if na > nb else nb
+                            if not (
+                                new < old - tol or (new <= old and na + nb < ca + cb - tol)
+                            ):
                                 continue
-                            key = (max(na, nb), na + nb, b, k, flip)
+                            if not (free or (self.fits(na, ca) and self.fits(nb, cb))):
+                                continue
+                            key = (new, na + nb, b, k, flip)
                             if top_key is None or key < top_key:
                                 top, top_key = (length, b, k, flip), key
                 if top is None:
@@ -368,77 +418,96 @@ class _Search:
                 seqs[b][k + 1 : k + 1] = chain[::-1] if flip else chain
                 costs[a], costs[b] = self.cost(sa), self.cost(seqs[b])
                 where = self.positions(seqs)
-                changed = True
-        return changed
+                changed.update((a, b))
 
     def positions(self, seqs: list[list[int]]) -> dict[int, tuple[int, int]]:
         """Route and position of every KPOI."""
         return {v: (r, k) for r, s in enumerate(seqs) for k, v in enumerate(s[1:-1], 1)}
 
     def slots(
-        self, seqs: list[list[int]], where: dict[int, tuple[int, int]], a: int, first: int, last: int
-    ) -> list[tuple[int, int]]:
+        self,
+        seqs: list[list[int]],
+        where: dict[int, tuple[int, int]],
+        a: int,
+        first: int,
+        last: int,
+    ) -> set[tuple[int, int]]:
         """Insertion slots ``(b, k)`` (between ``s_b[k]`` and ``s_b[k + 1]``) in routes
         other than ``a``: right after the start, and on either side of a KPOI among
-        the nearest to ``first`` or ``last``; in a deterministic order."""
+        the nearest to ``first`` or ``last`` (callers break ties by ``(b, k)``)."""
         found = {(b, 0) for b in range(len(seqs)) if b != a}
-        for end in {first, last}:
-            for u in self.neighbours[end - 1][:_GRANULARITY]:
-                b, k = where[int(u)]
-                if b != a:
-                    found.update(((b, k - 1), (b, k)))
-        return sorted(found)
+        near = self.near
+        for u in near[first] if first == last else near[first] + near[last]:
+            b, k = where[u]
+            if b != a:
+                found.add((b, k - 1))
+                found.add((b, k))
+        return found
 
-    def swap(self, seqs: list[list[int]]) -> bool:
-        """Exchange one KPOI of a route with one of another."""
-        d, changed = self.d, False
+    def swap(self, seqs: list[list[int]], active: set[int], changed: set[int]) -> None:
+        """Exchange one KPOI of a route with one of another (pairs as in
+        :meth:`relocate`)."""
+        d, tol, free = self.d, self.tol, self.deadline is None
         costs = [self.cost(s) for s in seqs]
         for a in range(len(seqs)):
             for b in range(a + 1, len(seqs)):
+                if not ({a, b} & active or {a, b} & changed):
+                    continue
                 sa, sb = seqs[a], seqs[b]
                 for i in range(1, len(sa) - 1):
+                    ca, cb = costs[a], costs[b]
+                    old, total = max(ca, cb), ca + cb
                     p, x, q = sa[i - 1], sa[i], sa[i + 1]
-                    out_a = costs[a] - d[p][x] - d[x][q]
+                    out_a = ca - d[p][x] - d[x][q]
                     top, top_key = None, None
                     for j in range(1, len(sb) - 1):
                         u, y, v = sb[j - 1], sb[j], sb[j + 1]
                         na = out_a + d[p][y] + d[y][q]
-                        nb = costs[b] - d[u][y] - d[y][v] + d[u][x] + d[x][v]
-                        if self.pair_gain(costs[a], costs[b], na, nb):
-                            key = (max(na, nb), na + nb)
+                        nb = cb - d[u][y] - d[y][v] + d[u][x] + d[x][v]
+                        new = na if na > nb else nb  # the module docstring's gain test
+                        if not (new < old - tol or (new <= old and na + nb < total - tol)):
+                            continue
+                        if free or (self.fits(na, ca) and self.fits(nb, cb)):
+                            key = (new, na + nb)
                             if top_key is None or key < top_key:
                                 top, top_key = j, key
                     if top is not None:
                         sa[i], sb[top] = sb[top], sa[i]
                         costs[a], costs[b] = self.cost(sa), self.cost(sb)
-                        changed = True
-        return changed
+                        changed.update((a, b))
 
-    def two_opt_star(self, seqs: list[list[int]]) -> bool:
-        """Exchange the tails of two routes (cut after ``s_a[i]`` and ``s_b[j]``)."""
-        d, changed = self.d, False
+    def two_opt_star(self, seqs: list[list[int]], active: set[int], changed: set[int]) -> None:
+        """Exchange the tails of two routes (cut after ``s_a[i]`` and ``s_b[j]``; pairs
+        as in :meth:`relocate`)."""
+        d, tol, free = self.d, self.tol, self.deadline is None
         for a in range(len(seqs)):
             for b in range(a + 1, len(seqs)):
+                if not ({a, b} & active or {a, b} & changed):
+                    continue
                 while True:
                     sa, sb = seqs[a], seqs[b]
                     pa, ta = self.prefix_suffix(sa)
                     pb, tb = self.prefix_suffix(sb)
                     ca, cb = pa[-1], pb[-1]
+                    old, total = max(ca, cb), ca + cb
                     top, top_key = None, None
                     for i in range(len(sa) - 1):
+                        pai, dai, tai = pa[i], d[sa[i]], ta[i + 1]
                         for j in range(len(sb) - 1):
-                            na = pa[i] + d[sa[i]][sb[j + 1]] + tb[j + 1]
-                            nb = pb[j] + d[sb[j]][sa[i + 1]] + ta[i + 1]
-                            if self.pair_gain(ca, cb, na, nb):
-                                key = (max(na, nb), na + nb)
+                            na = pai + dai[sb[j + 1]] + tb[j + 1]
+                            nb = pb[j] + d[sb[j]][sa[i + 1]] + tai
+                            new = na if na > nb else nb  # the module docstring's gain test
+                            if not (new < old - tol or (new <= old and na + nb < total - tol)):
+                                continue
+                            if free or (self.fits(na, ca) and self.fits(nb, cb)):
+                                key = (new, na + nb)
                                 if top_key is None or key < top_key:
                                     top, top_key = (i, j), key
                     if top is None:
                         break
                     i, j = top
                     seqs[a], seqs[b] = sa[: i + 1] + sb[j + 1 :], sb[: j + 1] + sa[i + 1 :]
-                    changed = True
-        return changed
+                    changed.update((a, b))
 
     def prefix_suffix(self, s: list[int]) -> tuple[list[float], list[float]]:
         """Cost from the start to ``s[k]`` and from ``s[k]`` to the end, per ``k``."""
@@ -464,41 +533,77 @@ class _Search:
         return False
 
     def ruin_and_recreate(self, seqs: list[list[int]], rng: random.Random) -> None:
-        """Remove a random KPOI (from the longest route half of the time) and up to
-        ``q`` of its nearest KPOIs, then reinsert them in a random order."""
+        """Slack induction by string removals (SISR; Christiaens and Vanden Berghe,
+        Transportation Science 54(2), 2020, doi:10.1287/trsc.2019.0914).
+
+        Ruin: from a random KPOI (in the longest route half of the time: the makespan's
+        bottleneck) and its nearest KPOIs in turn, remove from each route met, up to a
+        random number of routes, a string of random length (at most :data:`_STRING`)
+        of consecutive KPOIs through that KPOI: on average at most about :data:`_RUINED`
+        KPOIs. Recreate: insert them (:meth:`insert`, skipping each slot with
+        probability :data:`_BLINK`) in a random order, farthest from the start first or
+        nearest first (weights 4, 4, 2).
+        """
         n = self.n
-        q = rng.randint(1, max(1, min(n, 3 + n // 10)))
+        used = [s for s in seqs if len(s) > 2]
+        longest_string = min(_STRING, max(1, (n + len(used) - 1) // max(1, len(used))))
+        strings = int(rng.uniform(1.0, 4.0 * _RUINED / (1 + longest_string)))
         if rng.random() < 0.5:
             longest = max(range(len(seqs)), key=lambda r: (self.cost(seqs[r]), -r))
-            pool = seqs[longest][1:-1] or list(range(1, n + 1))
+            centre = rng.choice(seqs[longest][1:-1] or list(range(1, n + 1)))
         else:
-            pool = list(range(1, n + 1))
-        centre = rng.choice(pool)
-        removed = [int(v) for v in self.neighbours[centre - 1][:q]]
-        if centre not in removed:
-            removed[-1] = centre
+            centre = rng.randint(1, n)
+        where = self.positions(seqs)
+        ruined: set[int] = set()
+        removed: list[int] = []
+        for u in self.neighbours[centre - 1]:
+            r, k = where[int(u)]
+            if r in ruined:
+                continue
+            size = len(seqs[r]) - 2
+            length = rng.randint(1, min(size, longest_string))
+            first = rng.randint(max(1, k - length + 1), min(k, size - length + 1))
+            removed.extend(seqs[r][first : first + length])
+            ruined.add(r)
+            if len(ruined) >= strings:
+                break
         gone = set(removed)
         for s in seqs:
             s[:] = [v for v in s if v not in gone or v in (0, self.end)]
         if self.robots is None:
             seqs[:] = [s for s in seqs if len(s) > 2]
-        rng.shuffle(removed)
-        self.insert_all(seqs, removed)
+        order = rng.choices(("random", "far", "near"), weights=(4, 4, 2))[0]
+        if order == "random":
+            rng.shuffle(removed)
+        else:
+            removed.sort(key=lambda v: (self.d[0][v] if order == "near" else -self.d[0][v], v))
+        for v in removed:
+            self.insert(seqs, v, allow_new=True, rng=rng)
 
     def insert_all(self, seqs: list[list[int]], kpois: list[int]) -> None:
         for v in kpois:
             self.insert(seqs, v, allow_new=True)
 
-    def insert(self, seqs: list[list[int]], v: int, *, allow_new: bool) -> bool:
+    def insert(
+        self,
+        seqs: list[list[int]],
+        v: int,
+        *,
+        allow_new: bool,
+        rng: random.Random | None = None,
+    ) -> bool:
         """Put KPOI ``v`` where it keeps the makespan least, then adds least length;
         under a deadline, where it adds least length within it (else a new route when
-        ``allow_new``). Returns whether it was placed."""
+        ``allow_new``). With ``rng``, each slot is skipped with probability
+        :data:`_BLINK` (SISR's blinks). Returns whether it was placed."""
         d = self.d
         costs = [self.cost(s) for s in seqs]
         makespan = max(costs, default=0.0)
         top, top_key = None, None
         for r, s in enumerate(seqs):
             for k in range(len(s) - 1):
+                if rng is not None and rng.random() < _BLINK:
+                    continue
                 u, w = s[k], s[k + 1]
                 extra = d[u][v] + d[v][w] - d[u][w]
                 new = costs[r] + extra

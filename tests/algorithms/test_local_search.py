@@ -11,7 +11,7 @@ from parcover.algorithms.local_search import best, improve, min_max_insertion
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.solve import METHODS, available_methods
 from parcover.verify import route_costs
-from strategies import instances
+from strategies import instances, least_makespan_or_robots
 
 QUESTIONS = [
     ("paths", 2, None),
@@ -95,14 +95,9 @@ def test_improves_a_poor_start_on_random_points():
 
 
 @settings(max_examples=25)
-@given(
-    instance=instances(1, 9),
-    routes=st.sampled_from(["paths", "tours"]),
-    robots=st.one_of(st.none(), st.integers(1, 4)),
-    seed=st.integers(0, 3),
-)
-def test_best_is_valid_and_never_worse_than_its_start(instance, routes, robots, seed):
-    problem = Problem(routes, robots=robots)
+@given(instance=instances(1, 9), problem=least_makespan_or_robots(4), seed=st.integers(0, 3))
+def test_best_is_valid_and_never_worse_than_its_start(instance, problem, seed):
+    robots = problem.robots
     solution = best(instance, problem, seed=seed, iterations=3)
     found = solution.routes
     assert sorted(v for r in found for v in r) == list(range(1, instance.n + 1))
