@@ -166,7 +166,7 @@ def build_result(
 def _best_bound(instance: Instance, problem: Problem, solution: Solution, makespan: float) -> float:
     """The larger of the method's proven bound and the trivial one."""
     if solution.drops_deadline:
-        trivial = float(robots_lower_bound(instance, makespan))
+        trivial = float(robots_lower_bound(instance, makespan, tours=problem.tours))
     else:
         trivial = lower_bound(instance, problem)
     return trivial if solution.bound is None else max(trivial, solution.bound)
