@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 
 from benchmarks import exact_scaling, naive_models
-from benchmarks.common import Config, euclidean_distances, run_peer
+from benchmarks.common import Config, euclidean_distances, euclidean_points, run_peer
 from milp import setpart
 from milp.routes import least_makespan, route_cost, within
+from parcover import Instance
 
 HAS_ORTOOLS = importlib.util.find_spec("ortools") is not None
 CASES = [(n, tours) for n in (5, 6) for tours in (False, True)]
@@ -33,6 +34,19 @@ def test_naive_models_match_set_partitioning(n: int, tours: bool) -> None:
         assert result.status == "optimal"
         assert result.objective == fewest
         assert all(within(route_cost(D, r, tours=tours), deadline) for r in result.routes)
+
+
+@pytest.mark.parametrize("tours", [False, True])
+def test_compact_cell_matches_set_partitioning(tours: bool) -> None:
+    instance = Instance.from_points(euclidean_points(7, 7))
+    D = instance.distances
+    deadline = 1.2 * least_makespan(D, tours=tours)
+    least = exact_scaling.solve_cell(instance, "compact", tours=tours, k=2, deadline=None, limit=30)
+    fewest = exact_scaling.solve_cell(instance, "compact", tours=tours, k=None, deadline=deadline,
+                                      limit=30)
+    assert least["status"] == fewest["status"] == "optimal"
+    assert least["objective"] == pytest.approx(setpart.min_makespan(D, 2, tours=tours).objective)
+    assert fewest["objective"] == setpart.min_robots(D, deadline, tours=tours).objective
 
 
 def test_naive_models_refuse_coincident_kpois() -> None:
