@@ -16,6 +16,7 @@ independently. Four methods:
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from typing import Any
 
@@ -29,9 +30,11 @@ __all__ = ["exact", "compact", "setpart", "cvxpy_model", "METHODS", "warm_start_
 _STATUS = {"optimal": Status.OPTIMAL, "infeasible": Status.INFEASIBLE, "unknown": Status.UNKNOWN}
 
 # The warm start: a fixed number of `best` rounds (deterministic), within this share
-# of the exact method's time limit when one is given.
+# of the exact method's time limit when one is given. The makespan models gain most
+# from a good incumbent (their bounds are weak); for the robots objective the
+# column-generation master and the model usually settle it, so a short search does.
 _WARM_SHARE = 0.1
-_WARM_ROUNDS = 10
+_WARM_ROUNDS = {"makespan": 200, "robots": 20}
 
 
 def exact(
@@ -78,10 +81,12 @@ def compact(
     """
     from milp import arcflow
 
+    began = time.perf_counter()
     start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
     if export_model:
         _export(instance, problem, export_model)
-    solution = _run(arcflow.min_makespan, arcflow.min_robots, instance, problem, time_limit,
+    left = None if time_limit is None else max(time_limit - (time.perf_counter() - began), 0.0)
+    solution = _run(arcflow.min_makespan, arcflow.min_robots, instance, problem, left,
                     warm_start=start)
     solution.info["model"] = "compact"
     return solution
@@ -134,7 +139,7 @@ def warm_start_routes(
         return None
     budget = None if time_limit is None else _WARM_SHARE * time_limit
     solution = methods["best"].function(
-        instance, problem, time_limit=budget, seed=seed, iterations=_WARM_ROUNDS
+        instance, problem, time_limit=budget, seed=seed, iterations=_WARM_ROUNDS[problem.objective]
     )
     return solution.routes or None
 
