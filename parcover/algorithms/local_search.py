@@ -13,7 +13,8 @@ improves it:
   searched, alone or in pairs;
 * for the robots objective (paper, Problem 2) the route with the fewest KPOIs is
   repeatedly emptied by cheapest insertion of its KPOIs into the others within the
-  deadline;
+  deadline; after part of the effort, :func:`fewer_robots` searches the least makespan
+  with one robot fewer until it meets the deadline, and again with one fewer;
 * ruin and recreate while the effort lasts: strings of consecutive KPOIs are removed
   from the routes nearest a random KPOI (half of the time one of the longest route,
   the makespan's bottleneck) and put back by min-max cheapest insertion in a random
@@ -34,11 +35,12 @@ from typing import Any
 
 import numpy as np
 
+from parcover.bounds import robots_lower_bound
 from parcover.instance import Instance
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.result import Status
 
-__all__ = ["best", "improve", "min_max_insertion", "DEFAULT_ITERATIONS", "METHODS"]
+__all__ = ["best", "improve", "fewer_robots", "min_max_insertion", "DEFAULT_ITERATIONS", "METHODS"]
 
 DEFAULT_ITERATIONS = 30
 """Ruin-and-recreate rounds when neither a time limit nor ``iterations`` is given
@@ -46,6 +48,7 @@ DEFAULT_ITERATIONS = 30
 
 _NOT_STARTS = frozenset({"best", "trivial", "exact", "compact", "setpart", "cvxpy"})
 _CONSTRUCTION_SHARE = 0.025  # of the time limit, for each construction
+_ROBOTS_SHARE = 0.4  # of the time limit, robots objective: the rest goes to fewer_robots
 _CHAIN = 3  # longest chain of KPOIs moved by or-opt / relocate
 _GRANULARITY = 20  # relocate tries slots next to this many nearest KPOIs
 _T_FIRST = 0.03  # annealing temperature at the first round, times the start's makespan
@@ -96,8 +99,56 @@ def best(
     if iterations is None and time_limit is None:
         iterations = DEFAULT_ITERATIONS
     stop = None if time_limit is None else started + time_limit
-    routes, info = improve(instance, problem, start, seed=seed, iterations=iterations, stop=stop)
+    if problem.objective == "makespan":
+        routes, info = improve(instance, problem, start, seed=seed, iterations=iterations, stop=stop)
+        return Solution(routes=routes, info={"start": name, **info})
+    # robots: part of the effort on the robots search, the rest on fewer_robots
+    first = None if stop is None else started + _ROBOTS_SHARE * time_limit
+    routes, info = improve(instance, problem, start, seed=seed, iterations=iterations, stop=first)
+    routes, rounds = fewer_robots(instance, problem, routes, seed=seed, iterations=iterations, stop=stop)
+    search = _Search(instance, problem)
+    value = search.key(search.sequences(routes))
+    info.update(value=value, iterations=info["iterations"] + rounds)
     return Solution(routes=routes, info={"start": name, **info})
+
+
+def fewer_robots(
+    instance: Instance,
+    problem: Problem,
+    routes: list[list[int]],
+    *,
+    seed: int = 0,
+    iterations: int | None = DEFAULT_ITERATIONS,
+    stop: float | None = None,
+) -> tuple[list[list[int]], int]:
+    """Robots objective: meet the deadline with one route fewer, again and again.
+
+    With ``q = len(routes) - 1`` robots, the least-makespan search (:func:`improve`)
+    starts from ``routes`` whose route with the fewest KPOIs is emptied into the others
+    (min-max cheapest insertion) and stops as soon as its makespan meets the deadline:
+    those ``q`` routes are a better answer, and ``q`` drops by one. Ends at the first
+    ``q`` not reached within ``iterations`` rounds (or by ``stop``), or at the
+    spanning-tree bound (:func:`parcover.bounds.robots_lower_bound`). Returns the routes
+    and the rounds used.
+    """
+    deadline = problem.effective_deadline(instance)
+    assert deadline is not None
+    floor = robots_lower_bound(instance, deadline, tours=problem.tours)
+    rounds = 0
+    while len(routes) > floor and (stop is None or time.perf_counter() < stop):
+        fewer = Problem(problem.routes, robots=len(routes) - 1)
+        search = _Search(instance, fewer)
+        emptied = min(range(len(routes)), key=lambda r: (len(routes[r]), r))
+        seqs = search.sequences([r for k, r in enumerate(routes) if k != emptied])
+        for v in sorted(routes[emptied], key=lambda v: (-search.d[0][v], v)):
+            search.insert(seqs, v, allow_new=False)
+        found, info = improve(instance, fewer, [s[1:-1] for s in seqs], seed=seed,
+                              iterations=iterations, stop=stop, target=deadline)
+        rounds += info["iterations"]
+        if not meets_deadline(info["value"][0], deadline):
+            break
+        routes = found
+    return routes, rounds
 
 
 def best_construction(
@@ -148,6 +199,7 @@ def improve(
     seed: int = 0,
     iterations: int | None = DEFAULT_ITERATIONS,
     stop: float | None = None,
+    target: float | None = None,
 ) -> tuple[list[list[int]], dict[str, Any]]:
     """Iterated local search from valid ``routes`` (KPOI indices).
 
@@ -166,6 +218,8 @@ def improve(
         Ruin-and-recreate rounds (``None``: until ``stop``).
     stop
         A :func:`time.perf_counter` value at which to stop (``None``: no limit).
+    target
+        Makespan objective: stop as soon as the makespan meets this deadline.
 
     Returns
     -------
@@ -188,6 +242,8 @@ def improve(
     scale = max(current_key[-2], search.tol)
     done = 0
     while (iterations is None or done < iterations) and not search.out_of_time():
+        if target is not None and meets_deadline(incumbent_key[0], target):
+            break
         progress = done / iterations if iterations else 0.0
         if stop is not None:
             progress = max(progress, (time.perf_counter() - began) / max(stop - began, 1e-9))

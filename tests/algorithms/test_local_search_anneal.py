@@ -1,5 +1,6 @@
-"""Tests of the search inside ``best``: annealing acceptance, string-removal ruin and
-the local search restricted to changed routes (parcover.algorithms.local_search)."""
+"""Tests of the search inside ``best``: annealing acceptance, string-removal ruin, the
+local search restricted to changed routes and fewer_robots
+(parcover.algorithms.local_search)."""
 
 from __future__ import annotations
 
@@ -11,7 +12,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from parcover import generate
-from parcover.algorithms.local_search import _accepts, _Search, best, improve
+from milp import setpart
+from parcover.algorithms.local_search import _accepts, _Search, best, fewer_robots, improve
 from parcover.problem import Problem, meets_deadline
 from parcover.verify import route_costs
 from strategies import instances, least_makespan_or_robots
@@ -146,3 +148,25 @@ def test_rounds_escape_the_first_local_optimum(routes):
     _, polished = improve(instance, problem, start, seed=0, iterations=0)
     _, searched = improve(instance, problem, start, seed=0, iterations=40)
     assert searched["value"][0] < polished["value"][0] - 1e-6
+
+
+@settings(max_examples=20, deadline=None)
+@given(instance=instances(2, 10), tours=st.booleans(), stretch=st.sampled_from([1.0, 1.3]))
+def test_fewer_robots_keeps_every_route_within_the_deadline(instance, tours, stretch):
+    kind = "tours" if tours else "paths"
+    deadline = stretch * (2 if tours else 1) * instance.c_max
+    problem = Problem(kind, deadline=deadline)
+    start = [[v] for v in range(1, instance.n + 1)]  # one robot per KPOI always fits
+    found, _ = fewer_robots(instance, problem, start, seed=0, iterations=5)
+    assert _partition([[0, *r, 0] for r in found], instance.n)
+    assert len(found) <= len(start)
+    assert all(meets_deadline(c, deadline) for c in route_costs(instance, found, tours=tours))
+
+
+@pytest.mark.parametrize("routes", ["paths", "tours"])
+def test_fewer_robots_packs_one_robot_per_kpoi_down_towards_the_optimum(routes):
+    instance = generate.random_points(12, 5)
+    problem = Problem(routes, deadline=1.2 * (2 if routes == "tours" else 1) * instance.c_max)
+    fewest = setpart.min_robots(instance.distances, problem.deadline, tours=routes == "tours")
+    found, rounds = fewer_robots(instance, problem, [[v] for v in range(1, 13)], iterations=20)
+    assert fewest.objective <= len(found) < 12 and rounds > 0
