@@ -7,6 +7,9 @@ import math
 import pytest
 
 from benchmarks import mtsp_literature as section
+from benchmarks.common import ROOT
+from parcover.io import read_instance, read_json
+from parcover.verify import verify
 
 
 def test_reference_values_hold_the_published_cplex_bounds():
@@ -20,10 +23,13 @@ def test_reference_values_hold_the_published_cplex_bounds():
             assert not math.isnan(table.loc[(name, m), "cplex_lb"])
 
 
-def test_cell_eil51_seven_tours_is_proven_at_twice_c_max():
+def test_cell_eil51_seven_tours_is_proven_at_twice_c_max(tmp_path):
     # eil51, m = 7: the best known 112.0714 equals 2 c_max (data README), so a value at
     # 2 c_max is optimal; node 1 = (37, 52) is the start, the farthest node is 56.04 away.
-    row = section.solve_cell("eil51", 7, best_seconds=2.0, bound_seconds=2.0)
+    row = section.solve_cell("eil51", 7, best_seconds=2.0, bound_seconds=2.0, tours_dir=tmp_path)
+    instance = read_instance(ROOT / "instances" / "tsplib" / "eil51.tsp")
+    verdict = verify(instance, read_json(tmp_path / "eil51-m7.json"))
+    assert verdict.robots <= 7 and verdict.makespan == pytest.approx(row["value"])
     assert row["kpois"] == 50
     assert row["2 c_max"] == pytest.approx(112.0714, abs=1e-4)
     assert row["bound"] <= row["value"] * (1 + 1e-9)
