@@ -42,6 +42,7 @@ def main(argv: list[str] | None = None) -> int:
     figures.mkdir(parents=True, exist_ok=True)
     config = Config(quick=args.quick, figures=figures, figures_link=figures.name)
     command = "python -m benchmarks " + " ".join(shlex.quote(a) for a in (sys.argv[1:] if argv is None else argv))
+    commit = _commit()  # before the run: its own reports would count as local changes
     for name in names:
         config.log(f"[benchmarks] {name} ...")
         began = time.perf_counter()
@@ -50,7 +51,7 @@ def main(argv: list[str] | None = None) -> int:
         config.log(f"[benchmarks] {name} done in {minutes * 60:.0f} s")
         for table, frame in section.tables.items():
             frame.to_csv(figures / f"{table}.csv", index=False)
-        save_section(section, figures / f"{name}.json", command.strip(), minutes)
+        save_section(section, figures / f"{name}.json", command.strip(), minutes, commit)
     sections = [json.loads(path.read_text(encoding="utf-8"))
                 for path in (figures / f"{name}.json" for name in SECTIONS) if path.exists()]
     out.write_text(render(sections, command.strip()), encoding="utf-8")
@@ -58,20 +59,21 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
-def save_section(section: Section, path: Path, command: str, minutes: float) -> None:
-    """Keep a section's text, targets and provenance (when, machine, command) as JSON."""
+def save_section(section: Section, path: Path, command: str, minutes: float, commit: str) -> None:
+    """Keep a section's text, targets and provenance (when, machine, command, commit) as JSON."""
     saved = {"title": section.title, "markdown": section.markdown, "targets": section.targets,
              "command": command, "written": _now(), "minutes": round(minutes, 1), "machine": _machine(),
-             "commit": _commit()}
+             "commit": commit}
     path.write_text(json.dumps(saved, indent=1) + "\n", encoding="utf-8")
 
 
 def _commit() -> str:
-    """The git commit the code ran from (``+ local changes`` when the tree was dirty)."""
+    """The git commit the code runs from (``+ local changes`` when a file outside
+    ``reports/`` differs from it)."""
     try:
         head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
                               text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=ROOT,
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "--", ".", ":!reports"], cwd=ROOT,
                                capture_output=True, text=True, check=True).stdout.strip()
     except (OSError, subprocess.CalledProcessError):
         return "unknown (not a git checkout)"
