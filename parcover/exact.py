@@ -33,8 +33,8 @@ _STATUS = {"optimal": Status.OPTIMAL, "infeasible": Status.INFEASIBLE, "unknown"
 # of the exact method's time limit when one is given. The makespan models gain most
 # from a good incumbent (their bounds are weak); for the robots objective the
 # column-generation master and the model usually settle it, so a short search does.
-_WARM_SHARE = 0.1
-_WARM_ROUNDS = {"makespan": 200, "robots": 20}
+WARM_SHARE = 0.1
+WARM_ROUNDS = {"makespan": 200, "robots": 20}
 
 
 def exact(
@@ -137,9 +137,9 @@ def warm_start_routes(
     methods = available_methods()
     if "best" not in methods:
         return None
-    budget = None if time_limit is None else _WARM_SHARE * time_limit
+    budget = None if time_limit is None else WARM_SHARE * time_limit
     solution = methods["best"].function(
-        instance, problem, time_limit=budget, seed=seed, iterations=_WARM_ROUNDS[problem.objective]
+        instance, problem, time_limit=budget, seed=seed, iterations=WARM_ROUNDS[problem.objective]
     )
     return solution.routes or None
 
