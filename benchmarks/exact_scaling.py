@@ -24,7 +24,6 @@ from milp import setpart
 from milp.routes import least_makespan, makespan, route_cost, within
 from parcover import Instance, Problem
 from parcover import exact as parcover_exact
-from parcover.exact import WARM_ROUNDS, WARM_SHARE
 
 MODELS = ("compact", "setpart", "mtz", "plain", "cpsat")
 #: Set partitioning enumerates 2^n subsets: only up to this many KPOIs.
@@ -199,8 +198,9 @@ def run(config: Config) -> Section:
         "Random Euclidean instances (start and n KPOIs uniform in a 100 x 100 square, seeded), "
         "solved in the same run by the compact arc-flow model as `parcover solve --method "
         "compact` runs it (`milp.arcflow`: pruning, column-generation bound, its own heuristics "
-        f"and a warm start from `best`, {WARM_ROUNDS['makespan']} rounds for the makespan and "
-        f"{WARM_ROUNDS['robots']} for robots within {WARM_SHARE:.0%} of the limit; its seconds "
+        f"and a warm start from `best`, {parcover_exact.WARM_ROUNDS['makespan']} rounds for the "
+        f"makespan and {parcover_exact.WARM_ROUNDS['robots']} for robots within "
+        f"{parcover_exact.WARM_SHARE:.0%} of the limit; its seconds "
         "include all of these), set partitioning (`milp.setpart`: Held-Karp routes, then the fewest "
         "routes by inclusion-exclusion counting), a naive big-M MTZ model and the plain "
         "arc-flow model of `formulations.md` in HiGHS (no pruning, no warm start; "

@@ -29,7 +29,6 @@ import pandas as pd
 import parcover
 from benchmarks.common import ROOT, Config, Section, markdown_table
 from milp import bounds, colgen
-from milp.merge import merge_zero_distances
 from parcover.io import read_instance
 
 INSTANCES = ("eil51", "berlin52", "eil76", "rat99")
@@ -68,7 +67,7 @@ def solve_cell(name: str, m: int, best_seconds: float, bound_seconds: float,
         (tours_dir / f"{name}-m{m}.json").write_text(result.to_json() + "\n")
     value = float(result.makespan)
     trivial = 2.0 * float(D[0, 1:].max())
-    tree = bounds.makespan_lower_bound(merge_zero_distances(D).D, m, tours=True)
+    tree = bounds.makespan_lower_bound(D, m, tours=True)
     bound = max(trivial, tree, float(result.bound or 0.0))
     cg, cg_time = np.nan, 0.0
     if value > bound * (1 + PROVEN_TOL):

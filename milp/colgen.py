@@ -382,9 +382,7 @@ def makespan_bound(
         raise ValueError("k must be at least 1")
     D = check_distance_matrix(D)
     merged = merge_zero_distances(D).D
-    trivial = least_makespan(D, tours=tours)
-    if len(merged) > 1:
-        trivial = max(trivial, tree_lower_bound(merged, k, tours=tours))
+    trivial = max(least_makespan(D, tours=tours), tree_lower_bound(merged, k, tours=tours))
     info = BoundInfo(trivial, trivial)
     ready = _setup(D, max(upper, trivial), tours=tours)
     if ready is None or upper <= trivial:
@@ -439,7 +437,7 @@ def robots_bound(
     if deadline < least_makespan(D, tours=tours) * (1 - 1e-9) - 1e-9:
         raise ValueError("deadline below the least makespan: no solution")
     merged = merge_zero_distances(D).D
-    trivial = float(tree_robots_bound(merged, deadline, tours=tours)) if len(merged) > 1 else 1.0
+    trivial = float(tree_robots_bound(merged, deadline, tours=tours))
     info = BoundInfo(trivial, trivial)
     ready = _setup(D, deadline, tours=tours)
     if ready is None:

@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 import random
 import time
+from collections.abc import Iterable
 from typing import Any
 
 import numpy as np
@@ -125,8 +126,9 @@ def fewer_robots(
 
     With ``q = len(routes) - 1`` robots, the least-makespan search (:func:`improve`)
     starts from ``routes`` whose route with the fewest KPOIs is emptied into the others
-    (min-max cheapest insertion) and stops as soon as its makespan meets the deadline:
-    those ``q`` routes are a better answer, and ``q`` drops by one. Ends at the first
+    (:meth:`_Search.empty_one_route`: min-max cheapest insertion, as there is no
+    deadline) and stops as soon as its makespan meets the deadline: those ``q`` routes
+    are a better answer, and ``q`` drops by one. Ends at the first
     ``q`` not reached within ``iterations`` rounds (or by ``stop``), or at the
     spanning-tree bound (:func:`parcover.bounds.robots_lower_bound`). Returns the routes
     and the rounds used.
@@ -138,10 +140,8 @@ def fewer_robots(
     while len(routes) > floor and (stop is None or time.perf_counter() < stop):
         fewer = Problem(problem.routes, robots=len(routes) - 1)
         search = _Search(instance, fewer)
-        emptied = min(range(len(routes)), key=lambda r: (len(routes[r]), r))
-        seqs = search.sequences([r for k, r in enumerate(routes) if k != emptied])
-        for v in sorted(routes[emptied], key=lambda v: (-search.d[0][v], v)):
-            search.insert(seqs, v, allow_new=False)
+        seqs = search.sequences(routes)
+        search.empty_one_route(seqs)  # no deadline in the makespan search: always succeeds
         found, info = improve(instance, fewer, [s[1:-1] for s in seqs], seed=seed,
                               iterations=iterations, stop=stop, target=deadline)
         rounds += info["iterations"]
@@ -186,8 +186,7 @@ def min_max_insertion(instance: Instance, problem: Problem) -> list[list[int]]:
     cheapest position within it, or a new route."""
     search = _Search(instance, problem)
     seqs = search.empty_routes()
-    order = sorted(range(1, instance.n + 1), key=lambda v: (-search.d[0][v], v))
-    search.insert_all(seqs, order)
+    search.insert_all(seqs, search.farthest_first(range(1, instance.n + 1)))
     return [s[1:-1] for s in seqs if len(s) > 2]
 
 
@@ -582,7 +581,7 @@ class _Search:
         order = sorted(range(len(seqs)), key=lambda r: (len(seqs[r]), self.cost(seqs[r]), r))
         for r in order:
             others = [list(s) for k, s in enumerate(seqs) if k != r]
-            kpois = sorted(seqs[r][1:-1], key=lambda v: (-self.d[0][v], v))
+            kpois = self.farthest_first(seqs[r][1:-1])
             if all(self.insert(others, v, allow_new=False) for v in kpois):
                 seqs[:] = others
                 return True
@@ -635,6 +634,11 @@ class _Search:
             removed.sort(key=lambda v: (self.d[0][v] if order == "near" else -self.d[0][v], v))
         for v in removed:
             self.insert(seqs, v, allow_new=True, rng=rng)
+
+    def farthest_first(self, kpois: Iterable[int]) -> list[int]:
+        """``kpois`` farthest from the start first (ties by index): the insertion order
+        of :func:`min_max_insertion` and :meth:`empty_one_route`."""
+        return sorted(kpois, key=lambda v: (-self.d[0][v], v))
 
     def insert_all(self, seqs: list[list[int]], kpois: list[int]) -> None:
         for v in kpois:
