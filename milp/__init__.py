@@ -7,16 +7,18 @@ start and ``1..n`` the KPOIs. Methods:
   warm start; the default.
 - :mod:`milp.setpart`: Held-Karp over all subsets plus set partitioning (``n <= 16``),
   an independent check.
+- :mod:`milp.branchprice`: branch-and-price over ng-routes (:mod:`milp.ngroute`, numba
+  labelling): fewest routes within a deadline, least makespan as a sequence of those.
 - :mod:`milp.cvx`: the arc-flow model written in cvxpy, for reading.
 - :mod:`milp.bounds`: spanning-tree bounds every model starts from.
 - :mod:`milp.colgen`: certified lower bounds from column generation over routes
   (relaxed pricing, valid when stopped early), for instances too large to prove.
 - :func:`frontier`: optimal makespan for ``k = 1, 2, ...`` robots.
 
-This package imports only numpy, scipy, highspy and cvxpy.
+This package imports only numpy, scipy, numba, highspy and cvxpy.
 """
 
-from milp import arcflow, bounds, colgen, cvx, setpart
+from milp import arcflow, bounds, branchprice, colgen, cvx, setpart
 from milp.arcflow import ArcModel, build_model, min_makespan, min_robots
 from milp.frontier import frontier
 from milp.highs import write_model
@@ -27,6 +29,7 @@ __all__ = [
     "MilpResult",
     "arcflow",
     "bounds",
+    "branchprice",
     "colgen",
     "build_model",
     "cvx",

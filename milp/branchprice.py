@@ -1,0 +1,578 @@
+r"""Branch-and-price over ng-routes: fewest routes within a deadline, least makespan with k.
+
+Model
+-----
+For a length budget :math:`U` let :math:`\mathcal R(U)` be the ng-routes
+(:mod:`milp.ngroute`) of length at most :math:`U` from the start 0 (paths, or tours back
+to 0), :math:`a_{ir}` the visits of KPOI :math:`i` by route :math:`r`:
+
+.. math::
+    (1)\quad \min \sum_r \lambda_r \quad\text{s.t.}\quad
+    (2)\ \sum_r a_{ir}\lambda_r \ge 1 \ (i \in N), \qquad
+    (3)\ \lambda_r \in \{0, 1\}.
+
+Every solution of the coverage problem with routes within :math:`U` is a solution of
+(1)-(3), and every solution of (1)-(3) shortcuts (first visits only; by the triangle
+inequality no route gets longer) to a coverage solution with no more routes. So the
+optimum of (1)-(3) is the fewest robots within :math:`U` (Ghannam, Mexi, Lam and Gleixner
+2024, arXiv:2401.17937, solve the depot-free relative of this problem this way).
+
+Column generation
+-----------------
+The LP relaxation of (1)-(3) over a restricted set of columns (the master, HiGHS) gives
+duals :math:`\pi \ge 0`; the pricing (:class:`milp.ngroute.Pricing`) returns routes with
+:math:`\sum_i a_{ir}\pi_i > 1` and the largest such prize :math:`M`. Farley's bound
+:math:`\sum_i \pi_i / \max(M, 1)` is a lower bound on the LP for *any* :math:`\pi \ge 0`
+(Farley 1990, Oper. Res. 38; see :mod:`milp.colgen`), so each exact pricing certifies a
+bound, and the node is closed as soon as its rounded-up bound exceeds the target. Columns
+are kept in one pool for the whole search (every node and every budget reuses those that
+fit). Pricing is heuristic first (fast dominance) and exact only when the heuristic finds
+nothing, and the duals are smoothed towards the best certificate so far (Wentges 1997,
+Int. Trans. Oper. Res. 4); a smoothed round that prices out nothing for the true duals
+is repeated with the true duals.
+
+Branching
+---------
+On arc flows :math:`x_{ij} = \sum_r \lambda_r [r \text{ uses } (i, j)]`, arcs from the
+start and arcs to the end of a route included: the most fractional arc is forbidden in
+one child (``x = 0``) and imposed in the other (``x = 1``: ``i`` is followed by ``j``
+in every route through ``i`` and ``j`` preceded by ``i``), both enforced in the pricing
+by removing arcs, so that the pricing keeps its structure. Every coverage solution
+(elementary routes, one visit per KPOI) lies in one child. Depth first, imposing first
+(finds solutions early). A node whose arc flows are integral but whose :math:`\lambda`
+is not cannot be branched on; the search then ends unproven (status ``feasible``), never
+with a wrong claim.
+
+Primal side: the incumbent comes from the caller (``warm_start``, e.g. parcover's
+``best``), from integral master solutions, and from the master solved as an integer
+program over the pool (price-and-branch) at the root.
+
+Least makespan with k routes
+----------------------------
+The optimum is the least :math:`U` whose fewest routes is at most :math:`k`. Starting
+from the incumbent's makespan :math:`Z`, the search decides :math:`U = Z (1 - 10^{-9})`:
+a solution with at most :math:`k` routes within it improves :math:`Z` (and the search
+repeats); a proof that none exists proves :math:`Z` optimal (to the 1e-9 relative
+tolerance of every exact method here). A lower bound for an unproven answer comes from
+bisection on the root LP bound (:math:`\lceil z(U) \rceil > k` proves :math:`U` too
+small), computed first with a share of the time limit.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import highspy
+import numpy as np
+from scipy import sparse
+
+from milp.bounds import makespan_lower_bound as tree_makespan_bound
+from milp.bounds import robots_lower_bound as tree_robots_bound
+from milp.highs import make_lp, new_highs, solve_lp
+from milp.merge import Merged, merge_zero_distances
+from milp.ngroute import Pricing
+from milp.result import MilpResult, relative_gap
+from milp.routes import check_distance_matrix, least_makespan, makespan, route_cost, within
+
+__all__ = ["min_robots", "min_makespan", "MAX_KPOIS"]
+
+#: Largest number of (merged) KPOIs the pricing's bit masks are tested with.
+MAX_KPOIS = 200
+#: Relative tolerance of certificates (round-off in sums of duals).
+CERT_TOL = 1e-9
+#: Weight of the stability center in the pricing duals.
+SMOOTHING = 0.5
+#: A makespan decision asks for routes within ``Z * (1 - STRICT)``.
+STRICT = 1e-9
+#: Share of a makespan time limit for the LP bisection (the bound reported if unproven).
+BISECTION_SHARE = 0.25
+#: Share of the time limit (and a cap in seconds) for the root's integer master.
+ROOT_IP_SHARE, ROOT_IP_CAP = 0.1, 5.0
+#: A lambda or an arc flow within this of an integer counts as integral.
+INTEGRAL = 1e-6
+
+
+@dataclass
+class _Pool:
+    """Every column generated: KPOIs in visiting order, visit counts, real length."""
+
+    m: int
+    tours: bool
+    D: np.ndarray
+    orders: list[np.ndarray] = field(default_factory=list)
+    lengths: list[float] = field(default_factory=list)
+    seen: set[bytes] = field(default_factory=set)
+
+    def add(self, routes: list[np.ndarray]) -> int:
+        """Add the new routes; how many were new."""
+        fresh = 0
+        for route in routes:
+            key = route.astype(np.int16).tobytes()
+            if key in self.seen:
+                continue
+            self.seen.add(key)
+            self.orders.append(route)
+            self.lengths.append(route_cost(self.D, route.tolist(), tours=self.tours))
+            fresh += 1
+        return fresh
+
+    def fits(self, c: int, budget: float, node: _Node) -> bool:
+        """Whether column ``c`` is within ``budget`` and uses only arcs ``node`` allows."""
+        if self.lengths[c] > budget:
+            return False
+        route = self.orders[c]
+        if not node.can_end[route[-1]] or not node.allowed[0, route[0]]:
+            return False
+        return bool(np.all(node.allowed[route[:-1], route[1:]]))
+
+
+@dataclass
+class _Node:
+    """Branching decisions: arcs allowed (``allowed[i, j]``, row 0 the first arcs) and
+    KPOIs a route may end at (``can_end``, the arcs to the end)."""
+
+    allowed: np.ndarray
+    can_end: np.ndarray
+    depth: int = 0
+
+    @classmethod
+    def root(cls, m: int) -> _Node:
+        allowed = np.ones((m + 1, m + 1), dtype=bool)
+        np.fill_diagonal(allowed, False)
+        allowed[:, 0] = False
+        can_end = np.ones(m + 1, dtype=bool)
+        can_end[0] = False
+        return cls(allowed, can_end)
+
+    def children(self, arc: tuple[int, int]) -> tuple[_Node, _Node]:
+        """``(imposed, forbidden)`` children for arc ``(i, j)``; ``j = -1`` is the end."""
+        i, j = arc
+        one = _Node(self.allowed.copy(), self.can_end.copy(), self.depth + 1)
+        zero = _Node(self.allowed.copy(), self.can_end.copy(), self.depth + 1)
+        if j < 0:
+            zero.can_end[i] = False
+            one.allowed[i, :] = False
+        else:
+            zero.allowed[i, j] = False
+            one.allowed[1:, j] = False
+            one.allowed[i, j] = True
+            if i > 0:
+                one.allowed[i, :] = False
+                one.allowed[i, j] = True
+                one.can_end[i] = False
+        return one, zero
+
+
+@dataclass
+class _LpOutcome:
+    """Column generation at one node: the certified bound, the master's value and
+    solution over ``columns`` (pool indices), and why it stopped."""
+
+    bound: float
+    value: float
+    columns: list[int]
+    x: np.ndarray
+    why: str
+
+
+class _Search:
+    """Column generation and branching over one pool (merged matrix, route kind)."""
+
+    def __init__(self, D: np.ndarray, *, tours: bool, stop_at: float | None) -> None:
+        self.D = D
+        self.m = len(D) - 1
+        self.tours = tours
+        self.pricing = Pricing(D, tours=tours)
+        self.pool = _Pool(self.m, tours, D)
+        self.pool.add([np.array([j]) for j in range(1, self.m + 1)])
+        self.stop_at = stop_at
+        self.nodes = 0
+
+    def out_of_time(self) -> bool:
+        return self.stop_at is not None and time.perf_counter() >= self.stop_at
+
+    def left(self) -> float | None:
+        return None if self.stop_at is None else max(self.stop_at - time.perf_counter(), 0.0)
+
+    def _master(self, columns: list[int]) -> highspy.Highs:
+        """The LP (1)-(2) over ``columns`` of the pool."""
+        h = new_highs(None)
+        h.setOptionValue("time_limit", 1e9)
+        lp = make_lp(np.ones(len(columns)), (np.zeros(len(columns)), np.full(len(columns), np.inf)),
+                     self._matrix(columns), (np.ones(self.m), np.full(self.m, np.inf)),
+                     np.zeros(len(columns), dtype=bool))
+        h.passModel(lp)
+        return h
+
+    def _matrix(self, columns: list[int]) -> sparse.csc_matrix:
+        """Visit counts ``a_ir`` of ``columns`` (rows KPOIs ``1..m``)."""
+        orders = [self.pool.orders[c] for c in columns]
+        rows = np.concatenate(orders) - 1 if orders else np.zeros(0, dtype=np.int64)
+        cols = np.repeat(np.arange(len(orders)), [len(o) for o in orders])
+        return sparse.csc_matrix((np.ones(len(rows)), (rows, cols)), shape=(self.m, len(orders)))
+
+    def solve_node(self, node: _Node, budget: float, target: float) -> _LpOutcome:
+        """Column generation at ``node`` until its bound exceeds ``target`` (closed), the
+        LP is solved, or time runs out."""
+        self.nodes += 1
+        columns = [c for c in range(len(self.pool.orders)) if self.pool.fits(c, budget, node)]
+        if not self._cover_all(columns, budget, node):
+            return _LpOutcome(math.inf, math.inf, columns, np.zeros(0), "closed")
+        h = self._master(columns)
+        bound, center = 0.0, None
+        while True:
+            h.run()
+            assert h.getModelStatus() == highspy.HighsModelStatus.kOptimal, "master LP not solved"
+            value = float(h.getInfo().objective_function_value)
+            duals = np.maximum(np.asarray(h.getSolution().row_dual, dtype=np.float64), 0.0)
+            x = np.asarray(h.getSolution().col_value, dtype=np.float64)
+            if math.ceil(bound - 1e-6) >= math.ceil(value - 1e-6) or bound >= value * (1 - 1e-7):
+                return _LpOutcome(bound, value, columns, x, "solved")
+            if self.out_of_time():
+                return _LpOutcome(bound, value, columns, x, "time limit")
+            found = 0
+            for pi, exact in self._duals_to_try(duals, center):
+                prize = np.concatenate(([0.0], pi))
+                res = self.pricing.price(prize, budget, allowed=node.allowed, can_end=node.can_end,
+                                         exact=exact)
+                if res.exact:
+                    farley = float(pi.sum()) / (max(res.best, 1.0) * (1 + CERT_TOL))
+                    if farley > bound:
+                        bound, center = farley, pi / max(res.best, 1.0)
+                    if bound > target * (1 + CERT_TOL) + CERT_TOL:
+                        return _LpOutcome(bound, value, columns, x, "closed")
+                useful = [r for r in res.routes if float(duals[r - 1].sum()) > 1 + 1e-9]
+                found = self._append(h, columns, useful, budget, node)
+                if found:
+                    break
+            if not found:
+                # the true duals priced out exactly: bound = sum(duals) = value, unless the
+                # label limit stopped the exact pricing
+                why = "solved" if bound >= value * (1 - 1e-7) else "pricing stalled"
+                return _LpOutcome(bound, value, columns, x, why)
+
+    def _cover_all(self, columns: list[int], budget: float, node: _Node) -> bool:
+        """Price in columns for KPOIs no column of ``node`` covers (prize 1 on those);
+        False when an exact pricing proves that no route at ``node`` covers one of them."""
+        while True:
+            covered = np.zeros(self.m, dtype=bool)
+            for c in columns:
+                covered[self.pool.orders[c] - 1] = True
+            if covered.all():
+                return True
+            prize = np.concatenate(([0.0], (~covered).astype(np.float64)))
+            res = self.pricing.price(prize, budget, allowed=node.allowed, can_end=node.can_end,
+                                     exact=True, threshold=0.5)
+            if not res.routes:
+                return not res.exact
+            before = len(self.pool.orders)
+            self.pool.add(res.routes)
+            fresh = [c for c in range(before, len(self.pool.orders)) if self.pool.fits(c, budget, node)]
+            if not fresh:
+                return True
+            columns.extend(fresh)
+
+    def _duals_to_try(self, duals: np.ndarray, center: np.ndarray | None):
+        """Heuristic then exact pricing, at smoothed duals first when a center exists,
+        then at the true duals (which decide whether the LP is solved)."""
+        if center is not None:
+            smooth = SMOOTHING * center + (1 - SMOOTHING) * duals
+            yield smooth, False
+            yield smooth, True
+        yield duals, False
+        yield duals, True
+
+    def _append(self, h: highspy.Highs, columns: list[int], routes: list[np.ndarray],
+                budget: float, node: _Node) -> int:
+        """Add ``routes`` to the pool and, when they fit, to the master ``h``."""
+        before = len(self.pool.orders)
+        self.pool.add(routes)
+        fresh = [c for c in range(before, len(self.pool.orders)) if self.pool.fits(c, budget, node)]
+        if fresh:
+            matrix = self._matrix(fresh)
+            h.addCols(len(fresh), np.ones(len(fresh)), np.zeros(len(fresh)),
+                      np.full(len(fresh), highspy.kHighsInf), matrix.nnz,
+                      matrix.indptr[:-1].astype(np.int32), matrix.indices.astype(np.int32),
+                      matrix.data)
+            columns.extend(fresh)
+        return len(fresh)
+
+    def integral_routes(self, outcome: _LpOutcome) -> list[list[int]] | None:
+        """The master's solution as routes when every lambda is 0 or 1."""
+        chosen = [c for c, v in zip(outcome.columns, outcome.x) if v > INTEGRAL]
+        if any(abs(outcome.x[i] - 1) > INTEGRAL for i, v in enumerate(outcome.x) if v > INTEGRAL):
+            return None
+        return _shortcut([self.pool.orders[c] for c in chosen])
+
+    def fractional_arc(self, outcome: _LpOutcome) -> tuple[int, int] | None:
+        """The arc whose flow is closest to 1/2 (``(i, -1)``: ending at ``i``)."""
+        flow: dict[tuple[int, int], float] = {}
+        for c, v in zip(outcome.columns, outcome.x):
+            if v <= INTEGRAL:
+                continue
+            route = self.pool.orders[c].tolist()
+            for arc in zip([0, *route], [*route, -1]):
+                flow[arc] = flow.get(arc, 0.0) + v
+        best, arc = 1.0, None
+        for a, f in flow.items():
+            frac = abs(f - math.floor(f) - 0.5)
+            if f - math.floor(f) > INTEGRAL and math.ceil(f) - f > INTEGRAL and frac < best:
+                best, arc = frac, a
+        return arc
+
+    def integer_master(self, budget: float, time_limit: float | None) -> list[list[int]] | None:
+        """Set covering (1)-(3) over every pooled column within ``budget`` (HiGHS MIP)."""
+        columns = [c for c in range(len(self.pool.orders)) if self.pool.lengths[c] <= budget]
+        n = len(columns)
+        lp = make_lp(np.ones(n), (np.zeros(n), np.ones(n)), self._matrix(columns),
+                     (np.ones(self.m), np.full(self.m, np.inf)), np.ones(n, dtype=bool))
+        solve = solve_lp(lp, time_limit=time_limit)
+        if solve.values is None:
+            return None
+        return _shortcut([self.pool.orders[columns[i]] for i in np.flatnonzero(solve.values > 0.5)])
+
+    def fewest_routes(self, budget: float, incumbent: list[list[int]] | None, target: int,
+                      *, first: bool) -> tuple[list[list[int]] | None, int | None, str]:
+        """Branch-and-price for the fewest routes within ``budget``.
+
+        Searches for routes within ``budget``, at most ``target`` of them (fewer than
+        ``incumbent`` when it is given: ``target`` moves down with every better solution).
+        With ``first``, returns at the first solution found.
+
+        Returns
+        -------
+        tuple
+            ``(routes, root_bound, outcome)``: the best routes (``incumbent`` when none
+            better), the root's certified bound rounded up, and ``"exhausted"`` (the tree
+            is closed: no solution with at most ``target`` routes remains, ``target``
+            being one below the returned routes' count when any were found), ``"found"``
+            (``first``) or ``"unknown"`` (time limit, or a node it could not branch on).
+        """
+        best = incumbent
+        stack = [_Node.root(self.m)]
+        root_bound: int | None = None
+        unresolved = False
+        while stack:
+            if self.out_of_time():
+                return best, root_bound, "unknown"
+            node = stack.pop()
+            outcome = self.solve_node(node, budget, target)
+            rounded = math.ceil(outcome.bound - 1e-6) if math.isfinite(outcome.bound) else math.inf
+            candidates = []
+            if root_bound is None:
+                root_bound = max(1, rounded) if math.isfinite(rounded) else None
+                if rounded <= target:
+                    candidates.append(self.integer_master(budget, self._root_ip_time()))
+            if outcome.why == "solved" and rounded <= target:
+                candidates.append(self.integral_routes(outcome))
+            for routes in candidates:
+                if routes is not None and len(routes) <= target:
+                    best, target = routes, len(routes) - 1
+                    if first:
+                        return best, root_bound, "found"
+            if outcome.why == "time limit":
+                return best, root_bound, "unknown"
+            if rounded > target:
+                continue
+            if outcome.why != "solved":
+                unresolved = True
+                continue
+            if self.integral_routes(outcome) is not None:
+                continue  # an integral LP optimum: nothing better below this node
+            arc = self.fractional_arc(outcome)
+            if arc is None:
+                unresolved = True
+                continue
+            one, zero = node.children(arc)
+            stack.extend([zero, one])
+        return best, root_bound, "unknown" if unresolved else "exhausted"
+
+    def _root_ip_time(self) -> float:
+        left = self.left()
+        return ROOT_IP_CAP if left is None else max(min(ROOT_IP_CAP, ROOT_IP_SHARE * left), 0.01)
+
+
+def _count(routes: list[list[int]] | None) -> float:
+    return math.inf if routes is None else len(routes)
+
+
+def _shortcut(orders: list[np.ndarray]) -> list[list[int]]:
+    """Routes visiting each KPOI once: the first visit in the order given is kept."""
+    seen: set[int] = set()
+    routes = []
+    for order in orders:
+        route = [int(i) for i in order if not (int(i) in seen or seen.add(int(i)))]
+        if route:
+            routes.append(route)
+    return routes
+
+
+def _prepare(D: np.ndarray) -> tuple[np.ndarray, Merged]:
+    D = check_distance_matrix(D)
+    merged = merge_zero_distances(D)
+    if merged.size > MAX_KPOIS:
+        raise ValueError(f"branch-and-price handles at most {MAX_KPOIS} KPOIs")
+    return D, merged
+
+
+def _checked_start(merged: Merged, D: np.ndarray, routes: list[list[int]] | None, *,
+                   tours: bool, deadline: float | None, k: int | None) -> list[list[int]] | None:
+    """The warm start in merged indices when it is valid for the question, else None."""
+    if not routes:
+        return None
+    covered = sorted(i for r in routes for i in r)
+    if covered != list(range(1, len(D))):
+        return None
+    reduced = merged.reduce(routes)
+    if deadline is not None and not all(within(route_cost(merged.D, r, tours=tours), deadline)
+                                        for r in reduced):
+        return None
+    if k is not None and len(reduced) > k:
+        return None
+    return reduced
+
+
+def _result(status: str, merged: Merged, D: np.ndarray, routes: list[list[int]] | None,
+            objective: float | None, bound: float | None, nodes: int, began: float,
+            message: str) -> MilpResult:
+    expanded = merged.expand(routes) if routes is not None else []
+    gap = relative_gap(objective, bound)
+    if status == "optimal":
+        bound, gap = objective, 0.0
+    return MilpResult(status, expanded, objective, bound, gap, nodes,
+                      time.perf_counter() - began, message)
+
+
+def min_robots(
+    D: np.ndarray, deadline: float, *, tours: bool, time_limit: float | None = None,
+    warm_start: list[list[int]] | None = None,
+) -> MilpResult:
+    """Fewest routes whose costs all meet ``deadline``, by branch-and-price.
+
+    Parameters
+    ----------
+    D : numpy.ndarray
+        ``(n+1, n+1)`` metric distance matrix, index 0 the start.
+    deadline : float
+        The largest route cost allowed (shared tolerance of :func:`milp.routes.within`).
+    tours : bool
+        Tours (return to 0) or open paths.
+    time_limit : float, optional
+        Seconds for the whole call.
+    warm_start : list of list of int, optional
+        Routes (KPOIs ``1..n``) within the deadline: the first incumbent.
+
+    Returns
+    -------
+    MilpResult
+        ``objective`` = number of routes; ``optimal`` when the branch-and-price tree is
+        closed, else ``feasible`` with the root's certified bound.
+    """
+    began = time.perf_counter()
+    D, merged = _prepare(D)
+    if deadline < least_makespan(D, tours=tours) * (1 - 1e-9) - 1e-9:
+        return MilpResult("infeasible", seconds=time.perf_counter() - began,
+                          message="deadline below the least makespan")
+    if merged.size == 0:
+        return _result("optimal", merged, D, [], 1.0, 1.0, 0, began, "every KPOI at the start")
+    budget = deadline * (1 + 1e-9) + 1e-9
+    stop_at = None if time_limit is None else began + time_limit
+    search = _Search(merged.D, tours=tours, stop_at=stop_at)
+    start = _checked_start(merged, D, warm_start, tours=tours, deadline=deadline, k=None)
+    if start is None:
+        start = [[j] for j in range(1, merged.size + 1)]
+    trivial = tree_robots_bound(merged.D, deadline, tours=tours)
+    if len(start) <= trivial:
+        return _result("optimal", merged, D, start, len(start), len(start), 0, began,
+                       "warm start meets the spanning-tree bound")
+    routes, root, outcome = search.fewest_routes(budget, start, len(start) - 1, first=False)
+    bound = max(trivial, root or 1)
+    if outcome == "exhausted" or len(routes) <= bound:
+        return _result("optimal", merged, D, routes, len(routes), len(routes), search.nodes, began,
+                       "branch-and-price tree closed")
+    return _result("feasible", merged, D, routes, len(routes), bound, search.nodes, began,
+                   "time limit" if search.out_of_time() else "a node could not be branched on")
+
+
+def min_makespan(
+    D: np.ndarray, k: int, *, tours: bool, time_limit: float | None = None,
+    warm_start: list[list[int]] | None = None,
+) -> MilpResult:
+    """Least makespan with at most ``k`` routes: a sequence of fewest-routes decisions.
+
+    Parameters are those of :func:`min_robots` with ``k`` (routes available) in place of
+    the deadline; ``warm_start`` should hold at most ``k`` routes.
+
+    Returns
+    -------
+    MilpResult
+        ``objective`` = makespan; ``optimal`` when the decision just below it is proven
+        infeasible, else ``feasible`` with the LP-bisection bound.
+    """
+    began = time.perf_counter()
+    if k < 1:
+        raise ValueError("k must be at least 1")
+    D, merged = _prepare(D)
+    if merged.size == 0:
+        return _result("optimal", merged, D, [], 0.0, 0.0, 0, began, "every KPOI at the start")
+    stop_at = None if time_limit is None else began + time_limit
+    lower = max(least_makespan(D, tours=tours), tree_makespan_bound(merged.D, k, tours=tours))
+    routes = _checked_start(merged, D, warm_start, tours=tours, deadline=None, k=k)
+    if routes is None:
+        routes = _nearest_split(merged.D, k, tours=tours)
+    value = makespan(merged.D, routes, tours=tours)
+    search = _Search(merged.D, tours=tours, stop_at=stop_at)
+    if value <= lower * (1 + 1e-9):
+        return _result("optimal", merged, D, routes, value, value, 0, began,
+                       "warm start meets the lower bound")
+    if time_limit is not None:
+        search.stop_at = began + BISECTION_SHARE * time_limit
+    lower = _bisect_lp_bound(search, k, lower, value)
+    search.stop_at = stop_at
+    while not search.out_of_time():
+        if value <= lower * (1 + 1e-9):
+            return _result("optimal", merged, D, routes, value, value, search.nodes, began,
+                           "lower bound reached")
+        budget = value * (1 - STRICT)
+        found, _, outcome = search.fewest_routes(budget, None, k, first=True)
+        if outcome == "found":
+            routes, value = found, makespan(merged.D, found, tours=tours)
+            continue
+        if outcome == "exhausted":
+            return _result("optimal", merged, D, routes, value, value, search.nodes, began,
+                           "no solution within (1 - 1e-9) x the makespan")
+        break
+    return _result("feasible", merged, D, routes, value, lower, search.nodes, began,
+                   "time limit" if search.out_of_time() else "a node could not be branched on")
+
+
+def _bisect_lp_bound(search: _Search, k: int, lower: float, upper: float) -> float:
+    """Largest makespan proven too small by the root LP (bound above ``k``), by bisection
+    between ``lower`` (known too small or trivial) and ``upper`` (achievable)."""
+    root = _Node.root(search.m)
+    while upper - lower > 1e-4 * upper and not search.out_of_time():
+        mid = 0.5 * (lower + upper)
+        outcome = search.solve_node(root, mid, k)
+        if outcome.why == "closed":
+            lower = mid
+        elif outcome.why == "time limit":
+            break
+        else:
+            upper = mid
+    return lower
+
+
+def _nearest_split(D: np.ndarray, k: int, *, tours: bool) -> list[list[int]]:
+    """A valid start when the caller gives none: the KPOIs in nearest-neighbour order,
+    cut into ``min(k, m)`` consecutive routes of similar length."""
+    m = len(D) - 1
+    order, here, left = [], 0, set(range(1, m + 1))
+    while left:
+        here = min(left, key=lambda j: D[here, j])
+        order.append(here)
+        left.remove(here)
+    parts = min(k, m)
+    size = math.ceil(m / parts)
+    return [order[i:i + size] for i in range(0, m, size)]

@@ -1,0 +1,388 @@
+r"""Pricing over ng-routes: the most valuable route within a length budget, by labelling.
+
+The column-generation master of :mod:`milp.branchprice` asks, for KPOI prizes
+:math:`\pi_i \ge 0` (its duals), for routes from the start 0 whose length is at most
+:math:`U` and whose prize :math:`\sum_{i} a_{ir} \pi_i` exceeds 1 (a negative reduced
+cost, the column cost being 1), and for the largest prize :math:`M` over all such routes
+(the certificate of :mod:`milp.colgen`, eq. (4): :math:`\sum_i \pi_i / \max(M, 1)` is a
+lower bound on the LP). This is an elementary orienteering problem; it is relaxed to
+*ng-routes* (Baldacci, Mingozzi and Roberti 2011, "New route relaxation and pricing
+strategies for the vehicle routing problem", Oper. Res. 59(5), 1269-1283,
+doi:10.1287/opre.1110.0975), which contain every elementary route, so that the largest
+prize over them is still a valid :math:`M`.
+
+ng-routes
+---------
+Each KPOI :math:`i` has a neighbourhood :math:`N_i` (itself and its ``size - 1``
+nearest KPOIs). A partial route carries a memory :math:`\Pi \subseteq N`; it may extend
+to :math:`j` only if :math:`j \notin \Pi`, and then :math:`\Pi' = (\Pi \cap N_j) \cup
+\{j\}`. Revisiting a KPOI is allowed once the route has "forgotten" it (moved to KPOIs
+whose neighbourhoods do not contain it); such a walk counts the KPOI's prize once per
+visit (:math:`a_{ir}` visits).
+
+Labelling (forward, exact)
+--------------------------
+A label is ``(node j, length l, prize p, memory Pi)``, the end of a partial route.
+Labels are extended in order of increasing length (a binary heap). A label ``e``
+*dominates* ``f`` at the same node when :math:`l_e \le l_f`, :math:`p_e \ge p_f` and
+:math:`\Pi_e \subseteq \Pi_f`: every extension of ``f`` is then an extension of ``e`` with
+no smaller prize and no longer length, so ``f`` is dropped (Baldacci et al., section 4).
+A label at ``j`` is feasible while :math:`l + r_j \le U`, with :math:`r_j = d_{j0}` for
+tours (the way home) and 0 for paths; every feasible label is a route ending at ``j``
+unless branching forbids ending there.
+
+Completion bounds
+-----------------
+A label whose prize plus an upper bound on what its completion can still collect is at
+most the best prize known (at least the threshold 1) cannot lead to a better route and is
+pruned. The bound :math:`g(b, j)` is the largest prize of a *walk* from ``j`` (any
+repetitions) whose discretised length is at most ``b``: with a grid step :math:`\delta`,
+:math:`d'_{ij} = \lfloor d_{ij}/\delta \rfloor`, :math:`r'_j = \lfloor r_j/\delta \rfloor`,
+
+.. math::
+    g(b, j) = \max\bigl(0 \text{ if } r'_j \le b,\;
+              \max_{k:\, d'_{jk} \le b} \pi_k + g(b - d'_{jk}, k)\bigr),
+
+a dynamic programme over ``b = 0..G`` (the q-route bound of Christofides, Mingozzi and
+Toth 1981 run backwards). A real completion of length :math:`s` with
+:math:`l + s + r \le U` has discretised length at most :math:`\lfloor (U - l)/\delta
+\rfloor` (a sum of floors is at most the floor of the sum), so :math:`g` bounds every
+completion, elementary or not. The grid needs :math:`d'_{ij} \ge 1` for all arcs (no
+zero-length cycles), i.e. :math:`\delta` at most the smallest distance; when that would
+need more than ``MAX_GRID`` steps, no completion bound is used (still exact, slower).
+
+Heuristic pricing
+-----------------
+With ``exact=False`` dominance ignores the memories (a label with a shorter length and
+a larger prize at the same node wins), which keeps few labels per node; the routes it
+returns are genuine ng-routes, but it may miss the best one, so its :math:`M` certifies
+nothing. Column generation uses it first and the exact labelling only when it finds no
+column.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+__all__ = ["Pricing", "PricingResult", "ng_memories", "NG_SIZE", "MAX_GRID"]
+
+#: Neighbourhood size of the ng-relaxation (KPOI itself included); Baldacci et al. use 8.
+NG_SIZE = 8
+#: Most grid steps of the completion bound.
+MAX_GRID = 4000
+#: Labels one exact pricing may create before it gives up (its M is then unknown).
+MAX_LABELS = 4_000_000
+
+
+@dataclass
+class PricingResult:
+    """What one pricing call found.
+
+    Attributes
+    ----------
+    best : float
+        The largest route prize found; with ``exact`` and ``complete`` it is the largest
+        prize of every ng-route within the budget, or ``threshold`` when none exceeds it.
+    routes : list of numpy.ndarray
+        Routes (KPOIs in visiting order, no 0) with prize above the threshold, best first.
+    exact : bool
+        Whether ``best`` is certified (exact dominance and the label limit not reached).
+    labels : int
+        Labels created.
+    """
+
+    best: float
+    routes: list[np.ndarray]
+    exact: bool
+    labels: int
+
+
+def ng_memories(D: np.ndarray, size: int = NG_SIZE) -> np.ndarray:
+    """Bit masks of the ng-neighbourhoods: row ``i`` holds ``i`` and its ``size - 1``
+    nearest KPOIs (row 0, the start, is empty). Shape ``(m+1, words)``, ``uint64``."""
+    m = len(D) - 1
+    words = m // 64 + 1
+    masks = np.zeros((m + 1, words), dtype=np.uint64)
+    for i in range(1, m + 1):
+        others = np.argsort(D[i, 1:], kind="stable")[:size] + 1
+        for j in {i, *others.tolist()}:
+            masks[i, j // 64] |= np.uint64(1) << np.uint64(j % 64)
+    return masks
+
+
+class Pricing:
+    """Pricing over ng-routes for one distance matrix and route kind.
+
+    Parameters
+    ----------
+    D : numpy.ndarray
+        ``(m+1, m+1)`` metric with every off-diagonal distance positive (merge zero
+        distances first, :func:`milp.merge.merge_zero_distances`).
+    tours : bool
+        Tours (the budget includes the way back) or paths.
+    ng_size : int
+        Neighbourhood size of the ng-relaxation.
+    """
+
+    def __init__(self, D: np.ndarray, *, tours: bool, ng_size: int = NG_SIZE) -> None:
+        self.D = np.ascontiguousarray(D, dtype=np.float64)
+        self.m = len(D) - 1
+        self.back = self.D[:, 0].copy() if tours else np.zeros(self.m + 1)
+        self.memories = ng_memories(self.D, ng_size)
+        off = self.D[~np.eye(self.m + 1, dtype=bool)]
+        self.shortest = float(off.min()) if off.size else 1.0
+
+    def price(
+        self,
+        prize: np.ndarray,
+        budget: float,
+        *,
+        allowed: np.ndarray,
+        can_end: np.ndarray,
+        exact: bool,
+        threshold: float = 1.0,
+        max_routes: int = 60,
+    ) -> PricingResult:
+        """Routes within ``budget`` with prize above ``threshold``, and the largest prize.
+
+        Parameters
+        ----------
+        prize : numpy.ndarray
+            ``(m+1,)`` non-negative prizes, ``prize[0] = 0``.
+        budget : float
+            Largest route length ``U`` (tolerance already applied by the caller).
+        allowed : numpy.ndarray
+            ``(m+1, m+1)`` bool, arcs the routes may use (branching), row 0 the first arcs.
+        can_end : numpy.ndarray
+            ``(m+1,)`` bool, KPOIs a route may end at (for tours: arcs back to 0 allowed).
+        exact : bool
+            Exact dominance (certified ``best``) or the faster heuristic one.
+        threshold : float
+            Only routes with a larger prize are returned.
+        max_routes : int
+            At most this many routes, the most valuable first.
+        """
+        grid = _grid_step(budget, self.shortest)
+        if grid is None:
+            delta, G = 1.0, 0
+            table = np.full((1, self.m + 1), np.inf)
+        else:
+            delta, G = grid
+            dd = np.floor(self.D / delta).astype(np.int64)
+            back = np.floor(self.back / delta).astype(np.int64)
+            table = _completion_table(dd, back, prize, allowed, can_end, G)
+        limit = MAX_LABELS if exact else MAX_LABELS // 4
+        best, ends, parents, nodes, count, complete = _label(
+            self.D, self.back, prize, self.memories, allowed, can_end, budget, table, delta,
+            G, threshold, exact, limit,
+        )
+        order = np.argsort(-ends[:, 1], kind="stable")[:max_routes] if len(ends) else []
+        routes = [_trace(int(ends[r, 0]), parents, nodes) for r in order]
+        return PricingResult(float(best), routes, exact and complete, int(count))
+
+
+def _grid_step(budget: float, shortest: float) -> tuple[float, int] | None:
+    """``(delta, G)`` of the completion bound, or None when the grid would be too fine."""
+    if budget <= 0 or shortest <= 0:
+        return None
+    delta = shortest / (1.0 + 1e-9)
+    G = int(math.floor(budget / delta)) + 1
+    if G > MAX_GRID:
+        return None
+    return delta, G
+
+
+def _trace(label: int, parents: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+    """The KPOIs from the start to ``label``, in order."""
+    out = []
+    while parents[label] >= 0:
+        out.append(int(nodes[label]))
+        label = int(parents[label])
+    return np.array(out[::-1], dtype=np.int64)
+
+
+@njit(cache=True)
+def _completion_table(dd, back, prize, allowed, can_end, G):  # pragma: no cover - compiled
+    """``g(b, j)`` of the module docstring for ``b = 0..G`` (``-inf``: cannot end)."""
+    m1 = dd.shape[0]
+    table = np.full((G + 1, m1), -np.inf)
+    for b in range(G + 1):
+        for j in range(1, m1):
+            best = 0.0 if (can_end[j] and back[j] <= b) else -np.inf
+            for k in range(1, m1):
+                if k == j or not allowed[j, k]:
+                    continue
+                c = dd[j, k]
+                if c <= b:
+                    v = table[b - c, k]
+                    if v > -np.inf and v + prize[k] > best:
+                        best = v + prize[k]
+            table[b, j] = best
+    return table
+
+
+@njit(cache=True)
+def _subset(a, b):  # pragma: no cover - compiled
+    """Whether bit set ``a`` is contained in ``b`` (arrays of uint64 words)."""
+    for w in range(a.shape[0]):
+        if a[w] & ~b[w]:
+            return False
+    return True
+
+
+@njit(cache=True)
+def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, threshold, exact,
+           limit):  # pragma: no cover - compiled
+    """Forward labelling (module docstring). Returns ``(best, ends, parents, nodes,
+    count, complete)``: ``ends`` rows ``(label, prize)`` of routes above ``threshold``."""
+    m1 = D.shape[0]
+    W = memories.shape[1]
+    cap = 1024
+    node = np.empty(cap, np.int64)
+    length = np.empty(cap)
+    value = np.empty(cap)
+    memory = np.zeros((cap, W), np.uint64)
+    parent = np.empty(cap, np.int64)
+    alive = np.empty(cap, np.bool_)
+    # per-node lists of labels, and a binary heap of (length, label)
+    bucket = [np.empty(8, np.int64) for _ in range(m1)]
+    fill = np.zeros(m1, np.int64)
+    hkey = np.empty(cap)
+    hval = np.empty(cap, np.int64)
+    hsize = 0
+    ends_label = np.empty(64, np.int64)
+    ends_value = np.empty(64)
+    nends = 0
+
+    node[0], length[0], value[0], parent[0], alive[0] = 0, 0.0, 0.0, -1, True
+    count = 1
+    hkey[0], hval[0], hsize = 0.0, 0, 1
+    best = threshold
+    complete = True
+    newmem = np.zeros(W, np.uint64)
+
+    while hsize > 0:
+        # pop the shortest label
+        lab = hval[0]
+        hsize -= 1
+        if hsize > 0:
+            key, v = hkey[hsize], hval[hsize]
+            pos = 0
+            while True:
+                child = 2 * pos + 1
+                if child >= hsize:
+                    break
+                if child + 1 < hsize and hkey[child + 1] < hkey[child]:
+                    child += 1
+                if hkey[child] >= key:
+                    break
+                hkey[pos], hval[pos] = hkey[child], hval[child]
+                pos = child
+            hkey[pos], hval[pos] = key, v
+        if not alive[lab]:
+            continue
+        i = node[lab]
+        for j in range(1, m1):
+            if j == i or not allowed[i, j]:
+                continue
+            word, bit = j // 64, np.uint64(1) << np.uint64(j % 64)
+            if memory[lab, word] & bit:
+                continue
+            nl = length[lab] + D[i, j]
+            if nl + back[j] > U:
+                continue
+            nv = value[lab] + prize[j]
+            if G > 0:
+                b = int(math.floor((U - nl) / delta * (1.0 + 1e-12))) + 1
+                if b > G:
+                    b = G
+                if b < 0:
+                    continue
+                rest = table[b, j]
+                if rest == -np.inf:
+                    continue
+                if nv + rest <= best and not (can_end[j] and nv > threshold):
+                    continue
+            for w in range(W):
+                newmem[w] = memory[lab, w] & memories[j, w]
+            newmem[word] |= bit
+            # dominance at j
+            dominated = False
+            lst = bucket[j]
+            k = 0
+            while k < fill[j]:
+                e = lst[k]
+                if not alive[e]:
+                    fill[j] -= 1
+                    lst[k] = lst[fill[j]]
+                    continue
+                if length[e] <= nl and value[e] >= nv and (not exact or _subset(memory[e], newmem)):
+                    dominated = True
+                    break
+                if nl <= length[e] and nv >= value[e] and (not exact or _subset(newmem, memory[e])):
+                    alive[e] = False
+                    fill[j] -= 1
+                    lst[k] = lst[fill[j]]
+                    continue
+                k += 1
+            if dominated:
+                continue
+            if count >= limit:
+                complete = False
+                hsize = 0
+                break
+            if count == cap:
+                cap *= 2
+                node = _grow(node, cap)
+                parent = _grow(parent, cap)
+                length = _grow(length, cap)
+                value = _grow(value, cap)
+                alive = _grow(alive, cap)
+                memory2 = np.zeros((cap, W), np.uint64)
+                memory2[: count] = memory[: count]
+                memory = memory2
+                hkey = _grow(hkey, cap)
+                hval = _grow(hval, cap)
+            new = count
+            count += 1
+            node[new], length[new], value[new], parent[new], alive[new] = j, nl, nv, lab, True
+            memory[new] = newmem
+            if fill[j] == lst.shape[0]:
+                bucket[j] = _grow(lst, 2 * lst.shape[0])
+                lst = bucket[j]
+            lst[fill[j]] = new
+            fill[j] += 1
+            # push
+            pos = hsize
+            hsize += 1
+            while pos > 0:
+                up = (pos - 1) // 2
+                if hkey[up] <= nl:
+                    break
+                hkey[pos], hval[pos] = hkey[up], hval[up]
+                pos = up
+            hkey[pos], hval[pos] = nl, new
+            if can_end[j] and nv > threshold:
+                if nends == ends_label.shape[0]:
+                    ends_label = _grow(ends_label, 2 * nends)
+                    ends_value = _grow(ends_value, 2 * nends)
+                ends_label[nends], ends_value[nends] = new, nv
+                nends += 1
+                if nv > best:
+                    best = nv
+    ends = np.empty((nends, 2))
+    for r in range(nends):
+        ends[r, 0], ends[r, 1] = ends_label[r], ends_value[r]
+    return best, ends, parent[:count].copy(), node[:count].copy(), count, complete
+
+
+@njit(cache=True)
+def _grow(a, size):  # pragma: no cover - compiled
+    """``a`` copied into a larger array of ``size`` entries."""
+    out = np.empty(size, a.dtype)
+    out[: a.shape[0]] = a
+    return out

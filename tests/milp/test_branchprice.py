@@ -1,0 +1,131 @@
+"""Branch-and-price (milp.branchprice) and its ng-route pricing (milp.ngroute).
+
+The cross-check against arcflow, setpart and cvxpy on seeded instances is in
+test_crosscheck.py; here: the pricing against brute force, clustered and coincident
+instances against setpart, and the time limit.
+"""
+
+from __future__ import annotations
+
+import itertools
+import time
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from milp import branchprice, setpart
+from milp.ngroute import Pricing
+from milp_helpers import TOL, check_solution, euclidean, graph_metric
+
+
+def open_arcs(m: int) -> tuple[np.ndarray, np.ndarray]:
+    """No branching decision: every arc allowed, every KPOI may end a route."""
+    allowed = np.ones((m + 1, m + 1), dtype=bool)
+    np.fill_diagonal(allowed, False)
+    can_end = np.ones(m + 1, dtype=bool)
+    can_end[0] = False
+    return allowed, can_end
+
+
+def brute_force_best(D: np.ndarray, prize: np.ndarray, budget: float, tours: bool) -> float:
+    """Largest prize of an elementary route within ``budget``, by enumerating permutations."""
+    m, best = len(D) - 1, 0.0
+    for size in range(1, m + 1):
+        for order in itertools.permutations(range(1, m + 1), size):
+            stops = [0, *order, *([0] if tours else [])]
+            if D[stops[:-1], stops[1:]].sum() <= budget:
+                best = max(best, float(prize[list(order)].sum()))
+    return best
+
+
+@pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
+@pytest.mark.parametrize("seed", range(6))
+def test_pricing_with_full_memory_is_the_elementary_optimum(seed, tours):
+    """With ng-neighbourhoods holding every KPOI, ng-routes are elementary routes, so the
+    exact pricing must find the brute-force optimum."""
+    m = 6
+    D = euclidean(m, seed)
+    rng = np.random.default_rng(seed)
+    prize = np.concatenate(([0.0], rng.uniform(0.0, 1.0, m)))
+    budget = (2.0 if tours else 1.0) * D[0, 1:].max() * rng.uniform(1.2, 2.5)
+    allowed, can_end = open_arcs(m)
+    found = Pricing(D, tours=tours, ng_size=m).price(prize, budget, allowed=allowed,
+                                                      can_end=can_end, exact=True, threshold=0.0)
+    assert found.exact
+    assert found.best == pytest.approx(brute_force_best(D, prize, budget, tours), abs=1e-9)
+    for route in found.routes:  # every returned route is within the budget
+        stops = [0, *route.tolist(), *([0] if tours else [])]
+        assert D[stops[:-1], stops[1:]].sum() <= budget + 1e-9
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_ng_pricing_bounds_the_elementary_optimum(seed):
+    """Small neighbourhoods relax the routes: the ng optimum is at least the elementary one."""
+    m = 7
+    D = euclidean(m, 10 + seed)
+    prize = np.concatenate(([0.0], np.random.default_rng(seed).uniform(0.0, 1.0, m)))
+    budget = 1.8 * D[0, 1:].max()
+    allowed, can_end = open_arcs(m)
+    found = Pricing(D, tours=False, ng_size=2).price(prize, budget, allowed=allowed,
+                                                      can_end=can_end, exact=True, threshold=0.0)
+    assert found.best >= brute_force_best(D, prize, budget, False) - 1e-9
+
+
+def clustered(n: int, seed: int) -> np.ndarray:
+    """KPOIs in three tight clusters far apart (long inter-cluster arcs)."""
+    rng = np.random.default_rng(seed)
+    centres = rng.uniform(0.0, 100.0, size=(3, 2))
+    points = centres[rng.integers(0, 3, n + 1)] + rng.normal(0.0, 3.0, size=(n + 1, 2))
+    return np.linalg.norm(points[:, None, :] - points[None, :, :], axis=2)
+
+
+@pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
+@pytest.mark.parametrize("make,n,seed", [(clustered, 9, 1), (clustered, 11, 2), (graph_metric, 10, 3),
+                                          (euclidean, 12, 4)])
+def test_agrees_with_setpart(make, n, seed, tours):
+    D = make(n, seed)
+    least = (2.0 if tours else 1.0) * D[0, 1:].max()
+    for k in (2, 4):
+        ours, ref = branchprice.min_makespan(D, k, tours=tours), setpart.min_makespan(D, k, tours=tours)
+        assert ours.status == ref.status == "optimal"
+        assert check_solution(D, ours, tours=tours, k=k) == pytest.approx(ref.objective, rel=TOL)
+    for deadline in (least, 1.3 * least):
+        ours, ref = branchprice.min_robots(D, deadline, tours=tours), setpart.min_robots(D, deadline, tours=tours)
+        assert ours.status == ref.status == "optimal"
+        check_solution(D, ours, tours=tours, deadline=deadline)
+        assert ours.objective == ref.objective
+
+
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 10**6), n=st.integers(2, 9), k=st.integers(1, 4), tours=st.booleans(),
+       share=st.floats(1.0, 2.0))
+def test_random_instances_agree_with_setpart(seed, n, k, tours, share):
+    D = euclidean(n, seed)
+    ours, ref = branchprice.min_makespan(D, k, tours=tours), setpart.min_makespan(D, k, tours=tours)
+    assert ours.status == "optimal"
+    assert check_solution(D, ours, tours=tours, k=k) == pytest.approx(ref.objective, rel=TOL)
+    deadline = share * ref.objective
+    ours, ref = branchprice.min_robots(D, deadline, tours=tours), setpart.min_robots(D, deadline, tours=tours)
+    assert ours.status == "optimal" and ours.objective == ref.objective
+
+
+def test_coincident_kpois_and_kpois_at_the_start():
+    """Zero distances are merged before pricing (no zero-length cycles)."""
+    points = np.array([[0, 0], [0, 0], [3, 0], [3, 0], [0, 4], [5, 5], [5, 5]], dtype=float)
+    D = np.linalg.norm(points[:, None] - points[None], axis=2)
+    for tours in (False, True):
+        for k in (1, 2, 3):
+            ours, ref = branchprice.min_makespan(D, k, tours=tours), setpart.min_makespan(D, k, tours=tours)
+            assert ours.status == "optimal"
+            assert check_solution(D, ours, tours=tours, k=k) == pytest.approx(ref.objective, abs=TOL)
+
+
+def test_time_limit_is_held_and_the_answer_is_honest():
+    """30 KPOIs, 3 tours, 1 s: whatever the status, the routes are valid and the bound holds."""
+    D = euclidean(30, 5)
+    began = time.perf_counter()
+    answer = branchprice.min_makespan(D, 3, tours=True, time_limit=1.0)
+    assert time.perf_counter() - began <= 1.1 + 0.5  # 10% plus one pricing round
+    check_solution(D, answer, tours=True, k=3)
