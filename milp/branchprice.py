@@ -72,7 +72,7 @@ from milp.bounds import makespan_lower_bound as tree_makespan_bound
 from milp.bounds import robots_lower_bound as tree_robots_bound
 from milp.highs import make_lp, new_highs, solve_lp
 from milp.merge import Merged, merge_zero_distances
-from milp.ngroute import Pricing
+from milp import ngroute
 from milp.result import MilpResult, relative_gap
 from milp.routes import check_distance_matrix, least_makespan, makespan, route_cost, within
 
@@ -90,78 +90,87 @@ STRICT = 1e-9
 BISECTION_SHARE = 0.25
 #: Share of the time limit (and a cap in seconds) for the root's integer master.
 ROOT_IP_SHARE, ROOT_IP_CAP = 0.1, 5.0
+#: Labels per second assumed before the first pricing is timed (caps the labelling
+#: by the time left).
+LABEL_RATE = 2_000_000
 #: A lambda or an arc flow within this of an integer counts as integral.
 INTEGRAL = 1e-6
 
 
-@dataclass
 class _Pool:
-    """Every column generated: KPOIs in visiting order, visit counts, real length."""
+    """Every column generated: KPOIs in visiting order, real length, arcs used.
 
-    m: int
-    tours: bool
-    D: np.ndarray
-    orders: list[np.ndarray] = field(default_factory=list)
-    lengths: list[float] = field(default_factory=list)
-    seen: set[bytes] = field(default_factory=set)
+    Arc ``(i, j)`` has id ``i (m+1) + j``; the arc from ``i`` to the end of a route (the
+    sink of a path, the way home of a tour) is ``(i, 0)``. A sparse column-by-arc
+    incidence matrix, rebuilt when the pool has grown, tells which columns a node allows.
+    """
 
-    def add(self, routes: list[np.ndarray]) -> int:
-        """Add the new routes; how many were new."""
-        fresh = 0
+    def __init__(self, D: np.ndarray, *, tours: bool) -> None:
+        self.D, self.tours, self.m = D, tours, len(D) - 1
+        self.orders: list[np.ndarray] = []
+        self.lengths = np.zeros(0)
+        self.arcs: list[np.ndarray] = []
+        self.seen: set[bytes] = set()
+        self._incidence: sparse.csr_matrix | None = None
+
+    def __len__(self) -> int:
+        return len(self.orders)
+
+    def add(self, routes: list[np.ndarray]) -> range:
+        """Add the routes not in the pool yet; the indices of the new columns."""
+        before, lengths = len(self.orders), []
         for route in routes:
             key = route.astype(np.int16).tobytes()
             if key in self.seen:
                 continue
             self.seen.add(key)
             self.orders.append(route)
-            self.lengths.append(route_cost(self.D, route.tolist(), tours=self.tours))
-            fresh += 1
-        return fresh
+            self.arcs.append(np.concatenate(([0], route)) * (self.m + 1) + np.concatenate((route, [0])))
+            lengths.append(route_cost(self.D, route.tolist(), tours=self.tours))
+        if lengths:
+            self.lengths = np.concatenate((self.lengths, lengths))
+            self._incidence = None
+        return range(before, len(self.orders))
 
-    def fits(self, c: int, budget: float, node: _Node) -> bool:
-        """Whether column ``c`` is within ``budget`` and uses only arcs ``node`` allows."""
-        if self.lengths[c] > budget:
-            return False
-        route = self.orders[c]
-        if not node.can_end[route[-1]] or not node.allowed[0, route[0]]:
-            return False
-        return bool(np.all(node.allowed[route[:-1], route[1:]]))
+    def fitting(self, budget: float, node: _Node, among: range | None = None) -> list[int]:
+        """Columns (of ``among``, default all) within ``budget`` using only arcs ``node``
+        allows."""
+        if self._incidence is None:
+            rows = np.repeat(np.arange(len(self.arcs)), [len(a) for a in self.arcs])
+            self._incidence = sparse.csr_matrix(
+                (np.ones(len(rows)), (rows, np.concatenate(self.arcs))),
+                shape=(len(self.arcs), (self.m + 1) ** 2))
+        forbidden = (~node.allowed).ravel().astype(np.float64)
+        among = range(len(self)) if among is None else among
+        picked = slice(among.start, among.stop)
+        ok = (self._incidence[picked] @ forbidden == 0) & (self.lengths[picked] <= budget)
+        return (np.flatnonzero(ok) + among.start).tolist()
 
 
 @dataclass
 class _Node:
-    """Branching decisions: arcs allowed (``allowed[i, j]``, row 0 the first arcs) and
-    KPOIs a route may end at (``can_end``, the arcs to the end)."""
+    """Branching decisions: ``allowed[i, j]`` for the arcs routes may use, row 0 the
+    first arcs, column 0 the arcs to the end (``allowed[i, 0]``: a route may end at
+    ``i``)."""
 
     allowed: np.ndarray
-    can_end: np.ndarray
-    depth: int = 0
 
     @classmethod
     def root(cls, m: int) -> _Node:
         allowed = np.ones((m + 1, m + 1), dtype=bool)
         np.fill_diagonal(allowed, False)
-        allowed[:, 0] = False
-        can_end = np.ones(m + 1, dtype=bool)
-        can_end[0] = False
-        return cls(allowed, can_end)
+        return cls(allowed)
 
     def children(self, arc: tuple[int, int]) -> tuple[_Node, _Node]:
-        """``(imposed, forbidden)`` children for arc ``(i, j)``; ``j = -1`` is the end."""
+        """``(imposed, forbidden)`` children for arc ``(i, j)``; ``j = 0`` is the end."""
         i, j = arc
-        one = _Node(self.allowed.copy(), self.can_end.copy(), self.depth + 1)
-        zero = _Node(self.allowed.copy(), self.can_end.copy(), self.depth + 1)
-        if j < 0:
-            zero.can_end[i] = False
+        one, zero = _Node(self.allowed.copy()), _Node(self.allowed.copy())
+        zero.allowed[i, j] = False
+        if j > 0:  # nothing but i may precede j
+            one.allowed[:, j] = False
+        if i > 0:  # i goes nowhere but j (j = 0: i ends its route)
             one.allowed[i, :] = False
-        else:
-            zero.allowed[i, j] = False
-            one.allowed[1:, j] = False
-            one.allowed[i, j] = True
-            if i > 0:
-                one.allowed[i, :] = False
-                one.allowed[i, j] = True
-                one.can_end[i] = False
+        one.allowed[i, j] = True
         return one, zero
 
 
@@ -184,11 +193,26 @@ class _Search:
         self.D = D
         self.m = len(D) - 1
         self.tours = tours
-        self.pricing = Pricing(D, tours=tours)
-        self.pool = _Pool(self.m, tours, D)
+        self.pricing = ngroute.Pricing(D, tours=tours, ng_size=ngroute.NG_SIZE)
+        self.pool = _Pool(D, tours=tours)
         self.pool.add([np.array([j]) for j in range(1, self.m + 1)])
         self.stop_at = stop_at
         self.nodes = 0
+        self.label_rate = LABEL_RATE
+
+    def price(self, prize: np.ndarray, budget: float, node: _Node, *, exact: bool,
+              threshold: float = 1.0) -> ngroute.PricingResult:
+        """One pricing at ``node``, its labels capped by the time left (at the labelling
+        speed measured so far) so that a time limit holds even inside the labelling."""
+        left = self.left()
+        cap = ngroute.MAX_LABELS if left is None else max(1000, int(self.label_rate * left))
+        began = time.perf_counter()
+        res = self.pricing.price(prize, budget, allowed=node.allowed, can_end=node.allowed[:, 0],
+                                 exact=exact, threshold=threshold, max_labels=cap)
+        seconds = time.perf_counter() - began
+        if res.labels > 10_000 and seconds > 0:
+            self.label_rate = 0.5 * (self.label_rate + res.labels / seconds)
+        return res
 
     def out_of_time(self) -> bool:
         return self.stop_at is not None and time.perf_counter() >= self.stop_at
@@ -217,9 +241,12 @@ class _Search:
         """Column generation at ``node`` until its bound exceeds ``target`` (closed), the
         LP is solved, or time runs out."""
         self.nodes += 1
-        columns = [c for c in range(len(self.pool.orders)) if self.pool.fits(c, budget, node)]
-        if not self._cover_all(columns, budget, node):
-            return _LpOutcome(math.inf, math.inf, columns, np.zeros(0), "closed")
+        columns = self.pool.fitting(budget, node)
+        covered = self._cover_all(columns, budget, node)
+        if covered is not True:
+            why = "closed" if covered is False else "time limit"
+            return _LpOutcome(math.inf if covered is False else 0.0, math.inf, columns,
+                              np.zeros(0), why)
         h = self._master(columns)
         bound, center = 0.0, None
         while True:
@@ -235,8 +262,7 @@ class _Search:
             found = 0
             for pi, exact in self._duals_to_try(duals, center):
                 prize = np.concatenate(([0.0], pi))
-                res = self.pricing.price(prize, budget, allowed=node.allowed, can_end=node.can_end,
-                                         exact=exact)
+                res = self.price(prize, budget, node, exact=exact)
                 if res.exact:
                     farley = float(pi.sum()) / (max(res.best, 1.0) * (1 + CERT_TOL))
                     if farley > bound:
@@ -253,9 +279,11 @@ class _Search:
                 why = "solved" if bound >= value * (1 - 1e-7) else "pricing stalled"
                 return _LpOutcome(bound, value, columns, x, why)
 
-    def _cover_all(self, columns: list[int], budget: float, node: _Node) -> bool:
-        """Price in columns for KPOIs no column of ``node`` covers (prize 1 on those);
-        False when an exact pricing proves that no route at ``node`` covers one of them."""
+    def _cover_all(self, columns: list[int], budget: float, node: _Node) -> bool | None:
+        """Price in columns for KPOIs no column of ``node`` covers (prize 1 on those).
+
+        True when every KPOI is covered, False when an exact pricing proves that no route
+        at ``node`` covers one of them, None when the pricing was cut short (time)."""
         while True:
             covered = np.zeros(self.m, dtype=bool)
             for c in columns:
@@ -263,15 +291,12 @@ class _Search:
             if covered.all():
                 return True
             prize = np.concatenate(([0.0], (~covered).astype(np.float64)))
-            res = self.pricing.price(prize, budget, allowed=node.allowed, can_end=node.can_end,
-                                     exact=True, threshold=0.5)
+            res = self.price(prize, budget, node, exact=True, threshold=0.5)
             if not res.routes:
-                return not res.exact
-            before = len(self.pool.orders)
-            self.pool.add(res.routes)
-            fresh = [c for c in range(before, len(self.pool.orders)) if self.pool.fits(c, budget, node)]
+                return False if res.exact else None
+            fresh = self.pool.fitting(budget, node, self.pool.add(res.routes))
             if not fresh:
-                return True
+                return None
             columns.extend(fresh)
 
     def _duals_to_try(self, duals: np.ndarray, center: np.ndarray | None):
@@ -287,9 +312,7 @@ class _Search:
     def _append(self, h: highspy.Highs, columns: list[int], routes: list[np.ndarray],
                 budget: float, node: _Node) -> int:
         """Add ``routes`` to the pool and, when they fit, to the master ``h``."""
-        before = len(self.pool.orders)
-        self.pool.add(routes)
-        fresh = [c for c in range(before, len(self.pool.orders)) if self.pool.fits(c, budget, node)]
+        fresh = self.pool.fitting(budget, node, self.pool.add(routes))
         if fresh:
             matrix = self._matrix(fresh)
             h.addCols(len(fresh), np.ones(len(fresh)), np.zeros(len(fresh)),
@@ -307,13 +330,13 @@ class _Search:
         return _shortcut([self.pool.orders[c] for c in chosen])
 
     def fractional_arc(self, outcome: _LpOutcome) -> tuple[int, int] | None:
-        """The arc whose flow is closest to 1/2 (``(i, -1)``: ending at ``i``)."""
+        """The arc whose flow is closest to 1/2 (``(i, 0)``: ending at ``i``)."""
         flow: dict[tuple[int, int], float] = {}
         for c, v in zip(outcome.columns, outcome.x):
             if v <= INTEGRAL:
                 continue
             route = self.pool.orders[c].tolist()
-            for arc in zip([0, *route], [*route, -1]):
+            for arc in zip([0, *route], [*route, 0]):
                 flow[arc] = flow.get(arc, 0.0) + v
         best, arc = 1.0, None
         for a, f in flow.items():
@@ -324,7 +347,7 @@ class _Search:
 
     def integer_master(self, budget: float, time_limit: float | None) -> list[list[int]] | None:
         """Set covering (1)-(3) over every pooled column within ``budget`` (HiGHS MIP)."""
-        columns = [c for c in range(len(self.pool.orders)) if self.pool.lengths[c] <= budget]
+        columns = np.flatnonzero(self.pool.lengths <= budget).tolist()
         n = len(columns)
         lp = make_lp(np.ones(n), (np.zeros(n), np.ones(n)), self._matrix(columns),
                      (np.ones(self.m), np.full(self.m, np.inf)), np.ones(n, dtype=bool))

@@ -146,6 +146,7 @@ class Pricing:
         exact: bool,
         threshold: float = 1.0,
         max_routes: int = 60,
+        max_labels: int = MAX_LABELS,
     ) -> PricingResult:
         """Routes within ``budget`` with prize above ``threshold``, and the largest prize.
 
@@ -165,6 +166,9 @@ class Pricing:
             Only routes with a larger prize are returned.
         max_routes : int
             At most this many routes, the most valuable first.
+        max_labels : int
+            The labelling stops after creating this many labels (the caller's share of
+            the time limit); ``best`` is then not certified.
         """
         grid = _grid_step(budget, self.shortest)
         if grid is None:
@@ -175,7 +179,7 @@ class Pricing:
             dd = np.floor(self.D / delta).astype(np.int64)
             back = np.floor(self.back / delta).astype(np.int64)
             table = _completion_table(dd, back, prize, allowed, can_end, G)
-        limit = MAX_LABELS if exact else MAX_LABELS // 4
+        limit = min(max_labels, MAX_LABELS if exact else MAX_LABELS // 4)
         best, ends, parents, nodes, count, complete = _label(
             self.D, self.back, prize, self.memories, allowed, can_end, budget, table, delta,
             G, threshold, exact, limit,

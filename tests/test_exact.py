@@ -1,4 +1,4 @@
-"""The exact methods through parcover: four methods agree, exports reproduce the optimum."""
+"""The exact methods through parcover: five methods agree, exports reproduce the optimum."""
 
 from __future__ import annotations
 
@@ -15,13 +15,14 @@ CASES = [generate.random_points(7, 11), generate.random_graph(6, 5, virtual=8)]
 @pytest.mark.parametrize("instance", CASES, ids=["euclid7", "graph6"])
 @pytest.mark.parametrize("routes", ["paths", "tours"])
 @pytest.mark.parametrize("question", [{"robots": 2}, {}])
-def test_three_exact_methods_agree(instance, routes, question):
+def test_exact_methods_agree(instance, routes, question):
+    methods = ("exact", "compact", "branchprice", "setpart", "cvxpy")
     values = []
-    for method in ("exact", "compact", "setpart", "cvxpy"):
+    for method in methods:
         result = solve(instance, routes, method=method, **question)
         assert result.status is Status.OPTIMAL, method
         values.append(result.value)
-    assert values == pytest.approx([values[0]] * 4, rel=1e-6)
+    assert values == pytest.approx([values[0]] * len(methods), rel=1e-6)
 
 
 def test_fig1_grid_optimal_makespans_8_4_4(fig1_grid):
@@ -61,3 +62,12 @@ def test_compact_keeps_to_its_time_limit_warm_start_included():
     result = solve(instance, "paths", robots=3, method="compact", time_limit=3)
     assert time.perf_counter() - started < 3.3
     assert result.status is Status.FEASIBLE and result.bound < result.value
+
+
+def test_branchprice_keeps_to_its_time_limit_warm_start_included():
+    # 60 KPOIs, 2 tours: routes of 30 KPOIs, far from proven in 3 s.
+    instance = generate.random_points(60, 3)
+    started = time.perf_counter()
+    result = solve(instance, "tours", robots=2, method="branchprice", time_limit=3)
+    assert time.perf_counter() - started < 3.3 + 0.5
+    assert result.status in (Status.FEASIBLE, Status.OPTIMAL)

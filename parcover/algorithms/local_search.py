@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from parcover import exact
 from parcover.bounds import robots_lower_bound
 from parcover.instance import Instance
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
@@ -47,7 +48,8 @@ DEFAULT_ITERATIONS = 30
 """Ruin-and-recreate rounds when neither a time limit nor ``iterations`` is given
 (about half a second for 50 KPOIs)."""
 
-_NOT_STARTS = frozenset({"best", "trivial", "exact", "compact", "setpart", "cvxpy"})
+#: Methods that are not constructions: ourselves, the trivial one and every exact method.
+_NOT_STARTS = frozenset({"best", "trivial", *(method.name for method in exact.METHODS)})
 _CONSTRUCTION_SHARE = 0.025  # of the time limit, for each construction
 _ROBOTS_SHARE = 0.4  # of the time limit, robots objective: the rest goes to fewer_robots
 _CHAIN = 3  # longest chain of KPOIs moved by or-opt / relocate
