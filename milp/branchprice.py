@@ -90,9 +90,6 @@ STRICT = 1e-9
 BISECTION_SHARE = 0.25
 #: Share of the time limit (and a cap in seconds) for the root's integer master.
 ROOT_IP_SHARE, ROOT_IP_CAP = 0.1, 5.0
-#: Labels per second assumed before the first pricing is timed (caps the labelling
-#: by the time left).
-LABEL_RATE = 2_000_000
 #: A lambda or an arc flow within this of an integer counts as integral.
 INTEGRAL = 1e-6
 
@@ -198,27 +195,19 @@ class _Search:
         self.pool.add([np.array([j]) for j in range(1, self.m + 1)])
         self.stop_at = stop_at
         self.nodes = 0
-        self.label_rate = LABEL_RATE
-
-    def price(self, prize: np.ndarray, budget: float, node: _Node, *, exact: bool,
-              threshold: float = 1.0) -> ngroute.PricingResult:
-        """One pricing at ``node``, its labels capped by the time left (at the labelling
-        speed measured so far) so that a time limit holds even inside the labelling."""
-        left = self.left()
-        cap = ngroute.MAX_LABELS if left is None else max(1000, int(self.label_rate * left))
-        began = time.perf_counter()
-        res = self.pricing.price(prize, budget, allowed=node.allowed, can_end=node.allowed[:, 0],
-                                 exact=exact, threshold=threshold, max_labels=cap)
-        seconds = time.perf_counter() - began
-        if res.labels > 10_000 and seconds > 0:
-            self.label_rate = 0.5 * (self.label_rate + res.labels / seconds)
-        return res
 
     def out_of_time(self) -> bool:
         return self.stop_at is not None and time.perf_counter() >= self.stop_at
 
     def left(self) -> float | None:
         return None if self.stop_at is None else max(self.stop_at - time.perf_counter(), 0.0)
+
+    def price(self, prize: np.ndarray, budget: float, node: _Node, *, exact: bool,
+              threshold: float = 1.0) -> ngroute.PricingResult:
+        """One pricing at ``node``, stopped by the search's time limit."""
+        return self.pricing.price(prize, budget, allowed=node.allowed, can_end=node.allowed[:, 0],
+                                  exact=exact, threshold=threshold,
+                                  stop_at=math.inf if self.stop_at is None else self.stop_at)
 
     def _master(self, columns: list[int]) -> highspy.Highs:
         """The LP (1)-(2) over ``columns`` of the pool."""

@@ -63,10 +63,11 @@ column.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+from numba import njit, objmode
 
 __all__ = ["Pricing", "PricingResult", "ng_memories", "NG_SIZE", "MAX_GRID"]
 
@@ -74,8 +75,8 @@ __all__ = ["Pricing", "PricingResult", "ng_memories", "NG_SIZE", "MAX_GRID"]
 NG_SIZE = 8
 #: Most grid steps of the completion bound.
 MAX_GRID = 4000
-#: Labels one exact pricing may create before it gives up (its M is then unknown).
-MAX_LABELS = 4_000_000
+#: The labelling reads the clock after this many labels and dominance tests.
+CLOCK_EVERY = 200_000
 
 
 @dataclass
@@ -91,14 +92,14 @@ class PricingResult:
         Routes (KPOIs in visiting order, no 0) with prize above the threshold, best first.
     exact : bool
         Whether ``best`` is certified (exact dominance and the label limit not reached).
-    labels : int
-        Labels created.
+    work : int
+        Labels created plus dominance tests made (what ``max_work`` caps).
     """
 
     best: float
     routes: list[np.ndarray]
     exact: bool
-    labels: int
+    work: int
 
 
 def ng_memories(D: np.ndarray, size: int = NG_SIZE) -> np.ndarray:
@@ -146,7 +147,7 @@ class Pricing:
         exact: bool,
         threshold: float = 1.0,
         max_routes: int = 60,
-        max_labels: int = MAX_LABELS,
+        stop_at: float = math.inf,
     ) -> PricingResult:
         """Routes within ``budget`` with prize above ``threshold``, and the largest prize.
 
@@ -166,9 +167,10 @@ class Pricing:
             Only routes with a larger prize are returned.
         max_routes : int
             At most this many routes, the most valuable first.
-        max_labels : int
-            The labelling stops after creating this many labels (the caller's share of
-            the time limit); ``best`` is then not certified.
+        stop_at : float
+            A ``time.perf_counter()`` value: the labelling stops there (checked every
+            :data:`CLOCK_EVERY` labels and dominance tests), and ``best`` is then not
+            certified.
         """
         grid = _grid_step(budget, self.shortest)
         if grid is None:
@@ -179,14 +181,13 @@ class Pricing:
             dd = np.floor(self.D / delta).astype(np.int64)
             back = np.floor(self.back / delta).astype(np.int64)
             table = _completion_table(dd, back, prize, allowed, can_end, G)
-        limit = min(max_labels, MAX_LABELS if exact else MAX_LABELS // 4)
-        best, ends, parents, nodes, count, complete = _label(
+        best, ends, parents, nodes, work, complete = _label(
             self.D, self.back, prize, self.memories, allowed, can_end, budget, table, delta,
-            G, threshold, exact, limit,
+            G, threshold, exact, stop_at,
         )
         order = np.argsort(-ends[:, 1], kind="stable")[:max_routes] if len(ends) else []
         routes = [_trace(int(ends[r, 0]), parents, nodes) for r in order]
-        return PricingResult(float(best), routes, exact and complete, int(count))
+        return PricingResult(float(best), routes, exact and complete, int(work))
 
 
 def _grid_step(budget: float, shortest: float) -> tuple[float, int] | None:
@@ -239,10 +240,29 @@ def _subset(a, b):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def _completion(table, delta, G, U, length, j):  # pragma: no cover - compiled
+    """``g`` at the budget left after ``length`` (``-inf``: the route cannot end)."""
+    if G == 0:
+        return np.inf
+    b = int(math.floor((U - length) / delta * (1.0 + 1e-12))) + 1
+    if b < 0:
+        return -np.inf
+    return table[min(b, G), j]
+
+
+@njit(cache=True)
 def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, threshold, exact,
-           limit):  # pragma: no cover - compiled
+           stop_at):  # pragma: no cover - compiled
     """Forward labelling (module docstring). Returns ``(best, ends, parents, nodes,
-    count, complete)``: ``ends`` rows ``(label, prize)`` of routes above ``threshold``."""
+    work, complete)``: ``ends`` rows ``(label, prize)`` of routes above ``threshold``.
+
+    Labels are created on extension and tested for dominance when they leave the heap:
+    every label at the same node with a smaller length has left it before, so the test
+    runs against those already extended only, kept per node by decreasing prize (only a
+    prefix can dominate). ``work`` counts labels and dominance tests; every
+    :data:`CLOCK_EVERY` of them the clock is read, and at ``stop_at`` the labelling stops
+    (``complete`` False).
+    """
     m1 = D.shape[0]
     W = memories.shape[1]
     cap = 1024
@@ -251,29 +271,29 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
     value = np.empty(cap)
     memory = np.zeros((cap, W), np.uint64)
     parent = np.empty(cap, np.int64)
-    alive = np.empty(cap, np.bool_)
-    # per-node lists of labels, and a binary heap of (length, label)
-    bucket = [np.empty(8, np.int64) for _ in range(m1)]
+    # labels already extended, per node, by decreasing prize
+    done = [np.empty(8, np.int64) for _ in range(m1)]
+    done_value = [np.empty(8) for _ in range(m1)]
     fill = np.zeros(m1, np.int64)
+    # binary heap of (length, label)
     hkey = np.empty(cap)
     hval = np.empty(cap, np.int64)
-    hsize = 0
     ends_label = np.empty(64, np.int64)
     ends_value = np.empty(64)
     nends = 0
 
-    node[0], length[0], value[0], parent[0], alive[0] = 0, 0.0, 0.0, -1, True
+    node[0], length[0], value[0], parent[0] = 0, 0.0, 0.0, -1
     count = 1
     hkey[0], hval[0], hsize = 0.0, 0, 1
     best = threshold
+    work = 0
+    clock = CLOCK_EVERY
     complete = True
-    newmem = np.zeros(W, np.uint64)
 
     while hsize > 0:
-        # pop the shortest label
         lab = hval[0]
         hsize -= 1
-        if hsize > 0:
+        if hsize > 0:  # sift the last entry down from the root
             key, v = hkey[hsize], hval[hsize]
             pos = 0
             while True:
@@ -287,81 +307,71 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
                 hkey[pos], hval[pos] = hkey[child], hval[child]
                 pos = child
             hkey[pos], hval[pos] = key, v
-        if not alive[lab]:
-            continue
-        i = node[lab]
+        i, li, vi = node[lab], length[lab], value[lab]
+        if lab > 0:
+            if vi + _completion(table, delta, G, U, li, i) <= best:
+                continue  # cannot beat the best route any more
+            # dominance: an extended label at i with prize >= vi and memory within ours
+            dominated = False
+            vals, labs = done_value[i], done[i]
+            k = 0
+            while k < fill[i] and vals[k] >= vi:
+                work += 1
+                if not exact or _subset(memory[labs[k]], memory[lab]):
+                    dominated = True
+                    break
+                k += 1
+            if dominated:
+                continue
+            # insert at position k (the first with a smaller prize)
+            if fill[i] == labs.shape[0]:
+                done[i] = _grow(labs, 2 * fill[i])
+                done_value[i] = _grow(vals, 2 * fill[i])
+                vals, labs = done_value[i], done[i]
+            for q in range(fill[i], k, -1):
+                vals[q], labs[q] = vals[q - 1], labs[q - 1]
+            vals[k], labs[k] = vi, lab
+            fill[i] += 1
+            work += fill[i] - k
+        if work >= clock:
+            clock = work + CLOCK_EVERY
+            with objmode(now="float64"):
+                now = time.perf_counter()
+            if now >= stop_at:
+                complete = False
+                break
         for j in range(1, m1):
             if j == i or not allowed[i, j]:
                 continue
             word, bit = j // 64, np.uint64(1) << np.uint64(j % 64)
             if memory[lab, word] & bit:
                 continue
-            nl = length[lab] + D[i, j]
+            nl = li + D[i, j]
             if nl + back[j] > U:
                 continue
-            nv = value[lab] + prize[j]
-            if G > 0:
-                b = int(math.floor((U - nl) / delta * (1.0 + 1e-12))) + 1
-                if b > G:
-                    b = G
-                if b < 0:
-                    continue
-                rest = table[b, j]
-                if rest == -np.inf:
-                    continue
-                if nv + rest <= best and not (can_end[j] and nv > threshold):
-                    continue
-            for w in range(W):
-                newmem[w] = memory[lab, w] & memories[j, w]
-            newmem[word] |= bit
-            # dominance at j
-            dominated = False
-            lst = bucket[j]
-            k = 0
-            while k < fill[j]:
-                e = lst[k]
-                if not alive[e]:
-                    fill[j] -= 1
-                    lst[k] = lst[fill[j]]
-                    continue
-                if length[e] <= nl and value[e] >= nv and (not exact or _subset(memory[e], newmem)):
-                    dominated = True
-                    break
-                if nl <= length[e] and nv >= value[e] and (not exact or _subset(newmem, memory[e])):
-                    alive[e] = False
-                    fill[j] -= 1
-                    lst[k] = lst[fill[j]]
-                    continue
-                k += 1
-            if dominated:
+            nv = vi + prize[j]
+            rest = _completion(table, delta, G, U, nl, j)
+            if rest == -np.inf:
                 continue
-            if count >= limit:
-                complete = False
-                hsize = 0
-                break
+            ends_here = can_end[j] and nv > threshold
+            if nv + rest <= best and not ends_here:
+                continue
+            work += 1
             if count == cap:
                 cap *= 2
-                node = _grow(node, cap)
-                parent = _grow(parent, cap)
-                length = _grow(length, cap)
-                value = _grow(value, cap)
-                alive = _grow(alive, cap)
-                memory2 = np.zeros((cap, W), np.uint64)
-                memory2[: count] = memory[: count]
-                memory = memory2
-                hkey = _grow(hkey, cap)
-                hval = _grow(hval, cap)
+                node, parent = _grow(node, cap), _grow(parent, cap)
+                length, value = _grow(length, cap), _grow(value, cap)
+                hkey, hval = _grow(hkey, cap), _grow(hval, cap)
+                grown = np.zeros((cap, W), np.uint64)
+                grown[:count] = memory[:count]
+                memory = grown
             new = count
             count += 1
-            node[new], length[new], value[new], parent[new], alive[new] = j, nl, nv, lab, True
-            memory[new] = newmem
-            if fill[j] == lst.shape[0]:
-                bucket[j] = _grow(lst, 2 * lst.shape[0])
-                lst = bucket[j]
-            lst[fill[j]] = new
-            fill[j] += 1
-            # push
-            pos = hsize
+            node[new], length[new], value[new], parent[new] = j, nl, nv, lab
+            for w in range(W):
+                memory[new, w] = memory[lab, w] & memories[j, w]
+            memory[new, word] |= bit
+            pos = hsize  # sift up
             hsize += 1
             while pos > 0:
                 up = (pos - 1) // 2
@@ -370,10 +380,9 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
                 hkey[pos], hval[pos] = hkey[up], hval[up]
                 pos = up
             hkey[pos], hval[pos] = nl, new
-            if can_end[j] and nv > threshold:
+            if ends_here:
                 if nends == ends_label.shape[0]:
-                    ends_label = _grow(ends_label, 2 * nends)
-                    ends_value = _grow(ends_value, 2 * nends)
+                    ends_label, ends_value = _grow(ends_label, 2 * nends), _grow(ends_value, 2 * nends)
                 ends_label[nends], ends_value[nends] = new, nv
                 nends += 1
                 if nv > best:
@@ -381,7 +390,7 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
     ends = np.empty((nends, 2))
     for r in range(nends):
         ends[r, 0], ends[r, 1] = ends_label[r], ends_value[r]
-    return best, ends, parent[:count].copy(), node[:count].copy(), count, complete
+    return best, ends, parent[:count].copy(), node[:count].copy(), work, complete
 
 
 @njit(cache=True)
