@@ -1,9 +1,10 @@
-"""Exact scaling: time to a proven optimum, compact model against set partitioning and peers.
+"""Exact scaling: time to a proven optimum, our exact methods against each other and peers.
 
 Section 1 of the benchmarks issue. On random Euclidean instances
 (:func:`benchmarks.common.euclidean_points`) it runs, side by side in the same process
-run, the compact arc-flow model as ``parcover``'s ``compact`` method runs it (warm start
-from ``best``, :func:`parcover.exact.compact`), set partitioning (:mod:`milp.setpart`,
+run, branch-and-price and the compact arc-flow model as ``parcover``'s ``branchprice`` and
+``compact`` methods run them (warm start from ``best``,
+:func:`parcover.exact.branch_and_price`, :func:`parcover.exact.compact`), set partitioning (:mod:`milp.setpart`,
 small ``n``), the naive big-M MTZ and plain arc-flow models
 (:mod:`benchmarks.naive_models`) and OR-Tools CP-SAT (:mod:`benchmarks.peers.cpsat`, in a
 subprocess). Ratios: a peer's time over ours (:func:`ours`); when the peer does not
@@ -25,7 +26,9 @@ from milp.routes import least_makespan, makespan, route_cost, within
 from parcover import Instance, Problem
 from parcover import exact as parcover_exact
 
-MODELS = ("compact", "setpart", "mtz", "plain", "cpsat")
+MODELS = ("branchprice", "compact", "setpart", "mtz", "plain", "cpsat")
+#: The models run as parcover's methods run them (warm start from ``best`` included).
+PARCOVER_MODELS = {"branchprice": parcover_exact.branch_and_price, "compact": parcover_exact.compact}
 #: Set partitioning enumerates 2^n subsets: only up to this many KPOIs.
 SETPART_MAX = setpart.MAX_KPOIS
 SIZES = (10, 15, 20, 25, 30, 40, 50)
@@ -35,7 +38,8 @@ SEEDS = (1, 2, 3)
 PROBLEMS = (("makespan", 2), ("makespan", 3), ("makespan", 5), ("robots", 1.0), ("robots", 1.2))
 #: Every seed for the cells the targets name (k = 3 paths, fewest robots on paths); seed 1
 #: for the others.
-TARGET_PROBLEMS = (("paths", "makespan", 3), ("paths", "robots", 1.0), ("paths", "robots", 1.2))
+TARGET_PROBLEMS = (("paths", "makespan", 3), ("tours", "makespan", 3), ("paths", "robots", 1.0),
+                   ("paths", "robots", 1.2))
 #: CP-SAT runs up to this many KPOIs (every seed to 20, seed 1 above).
 CPSAT_MAX = 30
 #: The naive models run on seed 1 at these sizes (they prove nothing beyond), on these
@@ -51,7 +55,7 @@ def time_limit(n: int) -> float:
 
 def ours(n: int) -> str:
     """The model ``parcover``'s ``exact`` method uses at ``n`` KPOIs."""
-    return "setpart" if n <= SETPART_MAX else "compact"
+    return "setpart" if n <= SETPART_MAX else "branchprice"
 
 
 def grid(quick: bool) -> list[dict]:
@@ -59,7 +63,7 @@ def grid(quick: bool) -> list[dict]:
 
     Full run (the issue's grid): n in :data:`SIZES`, paths and tours, every problem of
     :data:`PROBLEMS`; every seed of :data:`SEEDS` for :data:`TARGET_PROBLEMS`, seed 1 for
-    the rest. The compact model everywhere, set partitioning to :data:`SETPART_MAX`,
+    the rest. Branch-and-price and the compact model everywhere, set partitioning to :data:`SETPART_MAX`,
     CP-SAT to :data:`CPSAT_MAX`, the naive models on seed 1 at :data:`NAIVE_SIZES` (and
     at n = 20 for k = 3 paths, the plain one with 120 s for the '>= 20x' target).
     Quick: n = 8 and 10, 3 s limits.
@@ -74,7 +78,7 @@ def grid(quick: bool) -> list[dict]:
             for objective, value in PROBLEMS:
                 seeds = SEEDS if (routes, objective, value) in TARGET_PROBLEMS else SEEDS[:1]
                 for seed in seeds:
-                    models = ["compact"]
+                    models = ["branchprice", "compact"]
                     if n <= SETPART_MAX:
                         models.append("setpart")
                     if n <= 20 or (n <= CPSAT_MAX and seed == SEEDS[0]):
@@ -108,10 +112,10 @@ def solve_cell(instance: Instance, model: str, *, tours: bool, k: int | None,
                     "seconds": answer.get("seconds"), "message": answer.get("error") or answer.get("unavailable")}
         routes, status = answer["routes"], answer["status"]
         bound, seconds = answer["bound"], answer["seconds"]
-    elif model == "compact":
+    elif model in PARCOVER_MODELS:
         problem = Problem(kind, robots=k) if k is not None else Problem(kind, deadline=deadline)
         began = time.perf_counter()
-        solution = parcover_exact.compact(instance, problem, time_limit=limit)
+        solution = PARCOVER_MODELS[model](instance, problem, time_limit=limit)
         seconds = time.perf_counter() - began
         routes, bound = solution.routes, solution.bound
         status = solution.status.value if solution.status is not None else "feasible"
@@ -141,7 +145,7 @@ def proven_time(row: dict) -> float | None:
     return row["seconds"] if row["status"] == "optimal" else None
 
 
-def ratio(peer: dict, compact: dict) -> str:
+def ratio(peer: dict, mine: dict) -> str:
     """Peer time over our time as text: ``"12.3"``, ``">= 40"``, ``"<= 0.5"`` or ``"-"``.
 
     An unproven run counts at its limit: ``>= peer limit / our seconds`` when only the
@@ -149,11 +153,11 @@ def ratio(peer: dict, compact: dict) -> str:
     when only we did not (an upper bound, below 1: the peer was faster), ``"-"`` when
     neither proved or the peer failed.
     """
-    ours, theirs = proven_time(compact), proven_time(peer)
+    ours, theirs = proven_time(mine), proven_time(peer)
     if peer.get("status") in (None, "error", "unavailable") or (ours is None and theirs is None):
         return "-"
     if ours is None:
-        return f"<= {theirs / compact['limit']:.3g}"
+        return f"<= {theirs / mine['limit']:.3g}"
     if theirs is None:
         return f">= {peer['limit'] / max(ours, 1e-3):.3g}"
     return f"{theirs / max(ours, 1e-3):.3g}"
@@ -187,7 +191,7 @@ def run(config: Config) -> Section:
                  f"Grid: n = {', '.join(map(str, SIZES))}; paths and tours; least makespan with "
                  "k = 2, 3, 5 robots and fewest robots within U = 1.0 and 1.2 x the least makespan. "
                  f"Seeds {', '.join(map(str, SEEDS))} for k = 3 paths and fewest robots on paths (the "
-                 f"targets' cells), seed {SEEDS[0]} for the rest. The compact model on every cell, set "
+                 f"targets' cells), seed {SEEDS[0]} for the rest. Branch-and-price and the compact model on every cell, set "
                  f"partitioning up to n = {SETPART_MAX}, CP-SAT up to n = 20 (every seed) and n = "
                  f"{CPSAT_MAX} (seed {SEEDS[0]}), the naive models on seed {SEEDS[0]} at n = "
                  f"{', '.join(map(str, NAIVE_SIZES))} (k = 3 paths and tours, fewest robots on paths "
@@ -196,11 +200,12 @@ def run(config: Config) -> Section:
                  "arc-flow model gets 120 s at n = 20 (k = 3 paths), for the '>= 20x' target.")
     markdown = "\n\n".join([
         "Random Euclidean instances (start and n KPOIs uniform in a 100 x 100 square, seeded), "
-        "solved in the same run by the compact arc-flow model as `parcover solve --method "
-        "compact` runs it (`milp.arcflow`: pruning, column-generation bound, its own heuristics "
-        f"and a warm start from `best`, {parcover_exact.WARM_ROUNDS['makespan']} rounds for the "
+        "solved in the same run by branch-and-price over ng-routes and the compact arc-flow model "
+        "as `parcover solve --method branchprice` / `--method compact` run them (`milp.branchprice`; "
+        "`milp.arcflow`: pruning, column-generation bound, its own heuristics; both with "
+        f"a warm start from `best`, {parcover_exact.WARM_ROUNDS['makespan']} rounds for the "
         f"makespan and {parcover_exact.WARM_ROUNDS['robots']} for robots within "
-        f"{parcover_exact.WARM_SHARE:.0%} of the limit; its seconds "
+        f"{parcover_exact.WARM_SHARE:.0%} of the limit; their seconds "
         "include all of these), set partitioning (`milp.setpart`: Held-Karp routes, then the fewest "
         "routes by inclusion-exclusion counting), a naive big-M MTZ model and the plain "
         "arc-flow model of `formulations.md` in HiGHS (no pruning, no warm start; "
@@ -209,7 +214,7 @@ def run(config: Config) -> Section:
         "`optimal` is exact to (n+1)/1e4). Seconds are each solver's own wall time (CP-SAT's "
         "excludes its process start-up).",
         "`ours` is the model `parcover`'s default `exact` method picks: set partitioning up to "
-        f"{SETPART_MAX} KPOIs, the compact model above. The ratios are each model's time over "
+        f"{SETPART_MAX} KPOIs, branch-and-price above. The ratios are each model's time over "
         "ours; a model that does not prove within its limit L counts as L, shown as `>= L / our "
         "seconds` (a lower bound on the true ratio); a model that proves where ours does not "
         "shows `<= its seconds / our limit` (it was faster); no ratio where neither proved.",
@@ -274,7 +279,8 @@ def plot(frame: pd.DataFrame, config: Config) -> str:
 
 def check_targets(frame: pd.DataFrame, ratios: pd.DataFrame) -> list[str]:
     """One line per target of the issue with the figure reached."""
-    return [_cpsat_target(ratios), _plain_target(ratios), _n30_target(frame), _robots50_target(frame)]
+    return [_cpsat_target(ratios), _plain_target(ratios), _n30_target(frame), _n40_target(frame),
+            _robots50_target(frame)]
 
 
 def _cpsat_target(ratios: pd.DataFrame) -> str:
@@ -306,20 +312,31 @@ def _plain_target(ratios: pd.DataFrame) -> str:
 
 def _n30_target(frame: pd.DataFrame) -> str:
     """n = 30 proven within 60 s: k = 3 paths on each seed, then every n = 30 cell."""
-    ours30 = frame[(frame["n"] == 30) & (frame["model"] == "compact")]
+    ours30 = frame[(frame["n"] == 30) & (frame["model"] == ours(30))]
     if ours30.empty:
         return "exact: n = 30 proven within 60 s: not measured"
-    k3 = ours30[(ours30["problem"] == "makespan k=3") & (ours30["routes"] == "paths")]
-    parts = [f"seed {r.seed}: {_outcome(r)}" for r in k3.itertuples()]
+    k3 = ours30[ours30["problem"] == "makespan k=3"]
+    parts = [f"{r.routes} seed {r.seed}: {_outcome(r)}" for r in k3.itertuples()]
     proven = ours30[(ours30["status"] == "optimal") & (ours30["seconds"] <= 60)]
     verdict = "met" if len(proven) == len(ours30) else "not met"
-    return (f"exact: n = 30 proven within 60 s: {verdict}: k = 3 paths {'; '.join(parts)}; "
+    return (f"exact: n = 30 proven within 60 s: {verdict}: k = 3 {'; '.join(parts)}; "
             f"all n = 30 cells: {len(proven)}/{len(ours30)} proven within 60 s")
+
+
+def _n40_target(frame: pd.DataFrame) -> str:
+    """n = 40, k = 5, paths and tours, proven within 60 s."""
+    cells = frame[(frame["n"] == 40) & (frame["problem"] == "makespan k=5") & (frame["model"] == ours(40))]
+    if cells.empty:
+        return "exact: n = 40, k = 5 proven within 60 s: not measured"
+    fast = cells[(cells["status"] == "optimal") & (cells["seconds"] <= 60)]
+    parts = [f"{r.routes} seed {r.seed}: {_outcome(r)}" for r in cells.itertuples()]
+    verdict = "met" if len(fast) == len(cells) else f"not met ({len(fast)}/{len(cells)} cells)"
+    return f"exact: n = 40, k = 5 proven within 60 s: {verdict}: {'; '.join(parts)}"
 
 
 def _robots50_target(frame: pd.DataFrame) -> str:
     """Fewest robots for n = 50 within 10 s, on every n = 50 robots cell."""
-    cells = frame[(frame["n"] == 50) & frame["problem"].str.startswith("robots") & (frame["model"] == "compact")]
+    cells = frame[(frame["n"] == 50) & frame["problem"].str.startswith("robots") & (frame["model"] == ours(50))]
     if cells.empty:
         return "exact: fewest robots for n = 50 within 10 s: not measured"
     fast = cells[(cells["status"] == "optimal") & (cells["seconds"] <= 10)]

@@ -3,10 +3,11 @@
 The models work on the distance matrix alone (start at index 0); this module hands
 them the matrix, a warm start, and maps their answer back to a
 :class:`~parcover.problem.Solution`, which :func:`parcover.solve` then verifies
-independently. Four methods:
+independently. Five methods:
 
 - ``exact`` (the default): ``setpart`` up to :data:`milp.setpart.MAX_KPOIS` KPOIs,
-  where it is the fastest (a fraction of a second), ``compact`` above;
+  where it is the fastest (a fraction of a second), ``branchprice`` above;
+- ``branchprice``: branch-and-price over ng-routes (:mod:`milp.branchprice`);
 - ``compact``: the compact arc-flow model solved by HiGHS (:mod:`milp.arcflow`);
 - ``setpart``: Held-Karp route enumeration and set partitioning by inclusion-exclusion
   counting (:mod:`milp.setpart`), an exact method independent of the compact model,
@@ -46,7 +47,8 @@ def exact(
     warm_start: list[list[int]] | None = None,
     export_model: str | None = None,
 ) -> Solution:
-    """Proven optimum within ``time_limit``: :func:`setpart` for small instances, else :func:`compact`.
+    """Proven optimum within ``time_limit``: :func:`setpart` for small instances, else
+    :func:`branch_and_price`.
 
     ``info["model"]`` names the one used. Options as :func:`compact` (``warm_start`` is
     only checked by ``setpart``; ``export_model`` always writes the compact model).
@@ -54,8 +56,10 @@ def exact(
     from milp import setpart as model
 
     if instance.n > model.MAX_KPOIS:
-        return compact(instance, problem, time_limit=time_limit, seed=seed, warm_start=warm_start,
-                       export_model=export_model)
+        if export_model:
+            _export(instance, problem, export_model)
+        return branch_and_price(instance, problem, time_limit=time_limit, seed=seed,
+                                warm_start=warm_start)
     if export_model:
         _export(instance, problem, export_model)
     solution = _run(model.min_makespan, model.min_robots, instance, problem, time_limit,
@@ -201,7 +205,7 @@ def _run(
 
 
 METHODS = (
-    MethodInfo("exact", exact, "proven optimum: setpart up to 16 KPOIs, compact above (default)",
+    MethodInfo("exact", exact, "proven optimum: setpart up to 16 KPOIs, branchprice above (default)",
                ("warm_start", "export_model")),
     MethodInfo("compact", compact, "proven optimum: compact arc-flow MILP in HiGHS", ("warm_start", "export_model")),
     MethodInfo("branchprice", branch_and_price,

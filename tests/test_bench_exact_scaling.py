@@ -93,13 +93,13 @@ def test_ratio_counts_unproven_peer_at_its_limit() -> None:
 
 def test_quick_section_on_tiny_grid(tmp_path, monkeypatch) -> None:
     tiny = [dict(n=5, seed=1, routes="paths", k=2, factor=None,
-                 models=("compact", "setpart", "mtz", "plain"), limit=5.0),
+                 models=("branchprice", "compact", "setpart", "mtz", "plain"), limit=5.0),
             dict(n=5, seed=1, routes="tours", k=None, factor=1.2,
-                 models=("compact", "setpart", "plain"), limit=5.0)]
+                 models=("branchprice", "compact", "setpart", "plain"), limit=5.0)]
     monkeypatch.setattr(exact_scaling, "grid", lambda quick: tiny)
     section = exact_scaling.run(Config(quick=True, figures=tmp_path, figures_link="fig"))
     frame = section.tables["exact_scaling"]
-    assert len(frame) == 7 and set(frame["status"]) == {"optimal"}
+    assert len(frame) == 9 and set(frame["status"]) == {"optimal"}
     for _, cell in frame.groupby("problem"):
         assert cell["objective"].max() - cell["objective"].min() <= 1e-7
     ratios = section.tables["exact_scaling_ratios"]
@@ -110,14 +110,15 @@ def test_quick_section_on_tiny_grid(tmp_path, monkeypatch) -> None:
         expected = compact[row["problem"]] / max(setpart_s[row["problem"]], 1e-3)
         assert row["compact / ours"] == f"{expected:.3g}"
     assert (tmp_path / "exact_scaling.png").exists()
-    assert len(section.targets) == 4
+    assert len(section.targets) == 5
 
 
 def test_full_grid_covers_the_issue() -> None:
     cells = exact_scaling.grid(quick=False)
     assert {c["n"] for c in cells} == {10, 15, 20, 25, 30, 40, 50}
-    k3 = [c for c in cells if c["routes"] == "paths" and c["k"] == 3 and "compact" in c["models"]]
-    assert sorted((c["n"], c["seed"]) for c in k3) == [(n, s) for n in exact_scaling.SIZES for s in (1, 2, 3)]
+    for routes in ("paths", "tours"):  # the n = 30 target names every seed, paths and tours
+        k3 = [c for c in cells if c["routes"] == routes and c["k"] == 3 and "branchprice" in c["models"]]
+        assert sorted((c["n"], c["seed"]) for c in k3) == [(n, s) for n in exact_scaling.SIZES for s in (1, 2, 3)]
     for routes in ("paths", "tours"):
         for k, factor in ((2, None), (3, None), (5, None), (None, 1.0), (None, 1.2)):
             sizes = {c["n"] for c in cells if c["routes"] == routes and c["k"] == k and c["factor"] == factor}
