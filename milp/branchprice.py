@@ -34,10 +34,12 @@ is repeated with the true duals.
 Branching
 ---------
 On arc flows :math:`x_{ij} = \sum_r \lambda_r [r \text{ uses } (i, j)]`, arcs from the
-start and arcs to the end of a route included: the most fractional arc is forbidden in
-one child (``x = 0``) and imposed in the other (``x = 1``: ``i`` is followed by ``j``
-in every route through ``i`` and ``j`` preceded by ``i``), both enforced in the pricing
-by removing arcs, so that the pricing keeps its structure. Every coverage solution
+start and arcs to the end of a route included (for tours on edge flows
+:math:`x_{ij} + x_{ji}`, a tour and its reverse being one tour): the most fractional arc
+is forbidden in one child (``x = 0``; for tours both directions) and imposed in the
+other (``x = 1``: ``i`` is followed by ``j`` in every route through ``i`` and ``j``
+preceded by ``i``), both enforced in the pricing by removing arcs, so that the pricing
+keeps its structure. Every coverage solution
 (elementary routes, one visit per KPOI) lies in one child. Depth first, imposing first
 (finds solutions early). A node whose arc flows are integral but whose :math:`\lambda`
 is not cannot be branched on; the search then ends unproven (status ``feasible``), never
@@ -158,11 +160,19 @@ class _Node:
         np.fill_diagonal(allowed, False)
         return cls(allowed)
 
-    def children(self, arc: tuple[int, int]) -> tuple[_Node, _Node]:
-        """``(imposed, forbidden)`` children for arc ``(i, j)``; ``j = 0`` is the end."""
+    def children(self, arc: tuple[int, int], *, tours: bool) -> tuple[_Node, _Node]:
+        """``(imposed, forbidden)`` children for arc ``(i, j)``; ``j = 0`` is the end.
+
+        For tours the forbidden child forbids the edge both ways (``(j, i)`` too): a tour
+        reversed is the same tour, so forbidding one direction alone would let the LP
+        use every forbidden tour backwards. Imposing one direction still leaves every
+        solution that uses the edge in the imposed child (reverse its tour if needed).
+        """
         i, j = arc
         one, zero = _Node(self.allowed.copy()), _Node(self.allowed.copy())
         zero.allowed[i, j] = False
+        if tours:
+            zero.allowed[j, i] = False
         if j > 0:  # nothing but i may precede j
             one.allowed[:, j] = False
         if i > 0:  # i goes nowhere but j (j = 0: i ends its route)
@@ -265,7 +275,8 @@ class _Search:
             if not found:
                 # the true duals priced out exactly: bound = sum(duals) = value, unless the
                 # label limit stopped the exact pricing
-                why = "solved" if bound >= value * (1 - 1e-7) else "pricing stalled"
+                why = ("solved" if bound >= value * (1 - 1e-7)
+                       else "time limit" if self.out_of_time() else "pricing stalled")
                 return _LpOutcome(bound, value, columns, x, why)
 
     def _cover_all(self, columns: list[int], budget: float, node: _Node) -> bool | None:
@@ -319,7 +330,10 @@ class _Search:
         return _shortcut([self.pool.orders[c] for c in chosen])
 
     def fractional_arc(self, outcome: _LpOutcome) -> tuple[int, int] | None:
-        """The arc whose flow is closest to 1/2 (``(i, 0)``: ending at ``i``)."""
+        """The arc whose flow is closest to 1/2 (``(i, 0)``: ending at ``i``).
+
+        For tours the flow of an edge is that of both its directions (the arc returned is
+        the direction carrying more of it)."""
         flow: dict[tuple[int, int], float] = {}
         for c, v in zip(outcome.columns, outcome.x):
             if v <= INTEGRAL:
@@ -327,11 +341,16 @@ class _Search:
             route = self.pool.orders[c].tolist()
             for arc in zip([0, *route], [*route, 0]):
                 flow[arc] = flow.get(arc, 0.0) + v
+        edges: dict[tuple[int, int], float] = {}
+        for (i, j), f in flow.items():
+            key = (min(i, j), max(i, j)) if self.tours else (i, j)
+            edges[key] = edges.get(key, 0.0) + f
         best, arc = 1.0, None
-        for a, f in flow.items():
+        for (i, j), f in edges.items():
             frac = abs(f - math.floor(f) - 0.5)
             if f - math.floor(f) > INTEGRAL and math.ceil(f) - f > INTEGRAL and frac < best:
-                best, arc = frac, a
+                forward, backward = flow.get((i, j), 0.0), flow.get((j, i), 0.0)
+                best, arc = frac, ((i, j) if forward >= backward else (j, i))
         return arc
 
     def integer_master(self, budget: float, time_limit: float | None) -> list[list[int]] | None:
@@ -397,7 +416,7 @@ class _Search:
             if arc is None:
                 unresolved = True
                 continue
-            one, zero = node.children(arc)
+            one, zero = node.children(arc, tours=self.tours)
             stack.extend([zero, one])
         return best, root_bound, "unknown" if unresolved else "exhausted"
 
