@@ -69,10 +69,10 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, objmode
 
-__all__ = ["Pricing", "PricingResult", "ng_memories", "NG_SIZE", "MAX_GRID"]
+__all__ = ["Pricing", "PricingResult", "cut_coefficients", "ng_memories", "NG_SIZE", "MAX_GRID"]
 
 #: Neighbourhood size of the ng-relaxation (KPOI itself included); Baldacci et al. use 8.
-NG_SIZE = 8
+NG_SIZE = 16
 #: Most grid steps of the completion bound.
 MAX_GRID = 4000
 #: The labelling reads the clock after this many labels and dominance tests.
@@ -148,6 +148,9 @@ class Pricing:
         threshold: float = 1.0,
         max_routes: int = 60,
         stop_at: float = math.inf,
+        cuts: np.ndarray | None = None,
+        memories: np.ndarray | None = None,
+        penalties: np.ndarray | None = None,
     ) -> PricingResult:
         """Routes within ``budget`` with prize above ``threshold``, and the largest prize.
 
@@ -171,7 +174,19 @@ class Pricing:
             A ``time.perf_counter()`` value: the labelling stops there (checked every
             :data:`CLOCK_EVERY` labels and dominance tests), and ``best`` is then not
             certified.
+        cuts : numpy.ndarray, optional
+            ``(m+1,)`` ``uint64``: bit ``t`` of ``cuts[j]`` is set when KPOI ``j`` is in the
+            triple of subset-row cut ``t`` (at most 64 cuts).
+        memories : numpy.ndarray, optional
+            ``(m+1,)`` ``uint64``: bit ``t`` of ``memories[j]`` is set when KPOI ``j`` is in
+            the memory of cut ``t`` (limited-memory cuts, :func:`cut_coefficients`).
+        penalties : numpy.ndarray, optional
+            ``(64,)`` non-negative: a route loses ``penalties[t]`` of prize each time
+            :func:`cut_coefficients` counts a pair for cut ``t`` (minus the cut's dual).
         """
+        if cuts is None:
+            cuts, memories = np.zeros(self.m + 1, dtype=np.uint64), np.zeros(self.m + 1, dtype=np.uint64)
+            penalties = np.zeros(64)
         grid = _grid_step(budget, self.shortest)
         if grid is None:
             delta, G = 1.0, 0
@@ -183,7 +198,7 @@ class Pricing:
             table = _completion_table(dd, back, prize, allowed, can_end, G)
         best, ends, parents, nodes, work, complete = _label(
             self.D, self.back, prize, self.memories, allowed, can_end, budget, table, delta,
-            G, threshold, exact, stop_at,
+            G, threshold, exact, stop_at, cuts, memories, penalties,
         )
         order = np.argsort(-ends[:, 1], kind="stable")[:max_routes] if len(ends) else []
         routes = [_trace(int(ends[r, 0]), parents, nodes) for r in order]
@@ -251,8 +266,21 @@ def _completion(table, delta, G, U, length, j):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def _penalty(sigma, bits):  # pragma: no cover - compiled
+    """Sum of ``sigma[t]`` over the set bits ``t`` of ``bits``."""
+    total = 0.0
+    t = 0
+    while bits:
+        if bits & np.uint64(1):
+            total += sigma[t]
+        bits >>= np.uint64(1)
+        t += 1
+    return total
+
+
+@njit(cache=True)
 def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, threshold, exact,
-           stop_at):  # pragma: no cover - compiled
+           stop_at, cuts, keep, sigma):  # pragma: no cover - compiled
     """Forward labelling (module docstring). Returns ``(best, ends, parents, nodes,
     work, complete)``: ``ends`` rows ``(label, prize)`` of routes above ``threshold``.
 
@@ -270,6 +298,7 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
     length = np.empty(cap)
     value = np.empty(cap)
     memory = np.zeros((cap, W), np.uint64)
+    parity = np.zeros(cap, np.uint64)  # bit t: an odd number of visits to cut t's triple
     parent = np.empty(cap, np.int64)
     # labels already extended, per node, by decreasing prize
     done = [np.empty(8, np.int64) for _ in range(m1)]
@@ -317,7 +346,11 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
             k = 0
             while k < fill[i] and vals[k] >= vi:
                 work += 1
-                if not exact or _subset(memory[labs[k]], memory[lab]):
+                e = labs[k]
+                # e's odd parities that ours lacks may cost e a penalty ours does not pay
+                odd = parity[e] & ~parity[lab]
+                if (not odd or vals[k] - _penalty(sigma, odd) >= vi) and (
+                        not exact or _subset(memory[e], memory[lab])):
                     dominated = True
                     break
                 k += 1
@@ -350,6 +383,10 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
             if nl + back[j] > U:
                 continue
             nv = vi + prize[j]
+            kept = parity[lab] & keep[j]
+            hit = cuts[j] & kept
+            if hit:
+                nv -= _penalty(sigma, hit)
             rest = _completion(table, delta, G, U, nl, j)
             if rest == -np.inf:
                 continue
@@ -362,12 +399,14 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
                 node, parent = _grow(node, cap), _grow(parent, cap)
                 length, value = _grow(length, cap), _grow(value, cap)
                 hkey, hval = _grow(hkey, cap), _grow(hval, cap)
+                parity = _grow(parity, cap)
                 grown = np.zeros((cap, W), np.uint64)
                 grown[:count] = memory[:count]
                 memory = grown
             new = count
             count += 1
             node[new], length[new], value[new], parent[new] = j, nl, nv, lab
+            parity[new] = kept ^ cuts[j]
             for w in range(W):
                 memory[new, w] = memory[lab, w] & memories[j, w]
             memory[new, word] |= bit
@@ -391,6 +430,43 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
     for r in range(nends):
         ends[r, 0], ends[r, 1] = ends_label[r], ends_value[r]
     return best, ends, parent[:count].copy(), node[:count].copy(), work, complete
+
+
+def cut_coefficients(orders: list[np.ndarray], cuts: np.ndarray, memories: np.ndarray,
+                     count: int) -> np.ndarray:
+    r"""Coefficients of limited-memory subset-row cuts, ``(count, len(orders))``.
+
+    Cut ``t`` has a triple :math:`S_t` (bit ``t`` of ``cuts[j]`` for ``j`` in it) and a
+    memory :math:`M_t \supseteq S_t` (bit ``t`` of ``memories[j]``). Along a route, a
+    parity bit flips at each visit to :math:`S_t` and is forgotten on a visit outside
+    :math:`M_t`; each visit to :math:`S_t` with the bit set counts one. The count is at
+    most :math:`\lfloor |r \cap S_t| / 2 \rfloor`, so :math:`\sum_r \alpha_{tr}
+    \lambda_r \le 1` holds for every partition into elementary routes (Jepsen,
+    Petersen, Spoorendonk and Pisinger 2008, Oper. Res. 56; limited memory: Pecin, Pessoa,
+    Poggi and Uchoa 2017, Math. Prog. Comp. 9). The labelling applies the same rule.
+    """
+    flat = np.concatenate(orders) if orders else np.zeros(0, dtype=np.int64)
+    starts = np.concatenate(([0], np.cumsum([len(o) for o in orders]))).astype(np.int64)
+    return _cut_counts(flat.astype(np.int64), starts, cuts, memories, count)
+
+
+@njit(cache=True)
+def _cut_counts(flat, starts, cuts, keep, count):  # pragma: no cover - compiled
+    out = np.zeros((count, starts.shape[0] - 1))
+    for r in range(starts.shape[0] - 1):
+        parity = np.uint64(0)
+        for p in range(starts[r], starts[r + 1]):
+            j = flat[p]
+            parity &= keep[j]
+            hit = cuts[j] & parity
+            t = 0
+            while hit:
+                if hit & np.uint64(1):
+                    out[t, r] += 1.0
+                hit >>= np.uint64(1)
+                t += 1
+            parity ^= cuts[j]
+    return out
 
 
 @njit(cache=True)

@@ -16,6 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from milp import branchprice, setpart
+from milp import ngroute
 from milp.ngroute import Pricing
 from milp_helpers import TOL, check_solution, euclidean, graph_metric
 
@@ -129,3 +130,61 @@ def test_time_limit_is_held_and_the_answer_is_honest():
     answer = branchprice.min_makespan(D, 3, tours=True, time_limit=1.0)
     assert time.perf_counter() - began <= 1.1 + 0.5  # 10% plus one pricing round
     check_solution(D, answer, tours=True, k=3)
+
+
+def cut_masks(m: int, triples: list[tuple[int, ...]], memories: list[set[int]]) -> tuple[np.ndarray, np.ndarray]:
+    """Bit masks of cut triples and memories per KPOI (bit t for cut t)."""
+    cuts, mems = np.zeros(m + 1, dtype=np.uint64), np.zeros(m + 1, dtype=np.uint64)
+    for t, (triple, memory) in enumerate(zip(triples, memories)):
+        for j in triple:
+            cuts[j] |= np.uint64(1 << t)
+        for j in memory | set(triple):
+            mems[j] |= np.uint64(1 << t)
+    return cuts, mems
+
+
+@settings(max_examples=50, deadline=None)
+@given(seed=st.integers(0, 10**6))
+def test_cut_coefficients_are_valid_for_every_partition(seed):
+    """A limited-memory subset-row cut counts at most floor(|r & S| / 2) on a route, so
+    a partition into elementary routes never has more than 1 in all."""
+    rng = np.random.default_rng(seed)
+    m = 8
+    triple = tuple(int(j) for j in rng.choice(np.arange(1, m + 1), 3, replace=False))
+    memory = {int(j) for j in rng.choice(np.arange(1, m + 1), int(rng.integers(0, m)), replace=False)}
+    cuts, mems = cut_masks(m, [triple], [memory])
+    order = rng.permutation(np.arange(1, m + 1))
+    cutpoints = sorted(rng.choice(np.arange(1, m), int(rng.integers(0, m - 1)), replace=False))
+    routes = [r for r in np.split(order, cutpoints) if len(r)]
+    alpha = ngroute.cut_coefficients(routes, cuts, mems, 1)[0]
+    for route, a in zip(routes, alpha):
+        assert a <= np.isin(route, triple).sum() // 2
+    assert alpha.sum() <= 1
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_pricing_with_cuts_is_the_elementary_optimum(seed):
+    """With full ng-memory and two cuts (full memory), the exact pricing must find the
+    brute-force best of prize minus penalty[t] x floor(|r & S_t| / 2)."""
+    m = 6
+    D = euclidean(m, 30 + seed)
+    rng = np.random.default_rng(seed)
+    prize = np.concatenate(([0.0], rng.uniform(0.0, 1.0, m)))
+    triples = [(1, 2, 3), (2, 4, 6)]
+    cuts, mems = cut_masks(m, triples, [set(range(1, m + 1))] * 2)
+    penalties = np.zeros(64)
+    penalties[:2] = rng.uniform(0.0, 0.8, 2)
+    budget = 2.0 * D[0, 1:].max()
+    allowed, can_end = open_arcs(m)
+    found = Pricing(D, tours=False, ng_size=m).price(
+        prize, budget, allowed=allowed, can_end=can_end, exact=True, threshold=0.0,
+        cuts=cuts, memories=mems, penalties=penalties)
+    best = 0.0
+    for size in range(1, m + 1):
+        for order in itertools.permutations(range(1, m + 1), size):
+            stops = [0, *order]
+            if D[stops[:-1], stops[1:]].sum() <= budget:
+                value = prize[list(order)].sum() - sum(
+                    p * (len(set(order) & set(t)) // 2) for p, t in zip(penalties, triples))
+                best = max(best, float(value))
+    assert found.exact and found.best == pytest.approx(best, abs=1e-9)
