@@ -9,34 +9,46 @@ start and ``1..n`` the KPOIs. Methods:
   an independent check.
 - :mod:`milp.branchprice`: branch-and-price over ng-routes (:mod:`milp.ngroute`, numba
   labelling): fewest routes within a deadline, least makespan as a sequence of those.
-- :mod:`milp.cvx`: the arc-flow model written in cvxpy, for reading.
+- :mod:`milp.cvx`: the arc-flow model written in cvxpy, for reading (imported on demand,
+  ``from milp import cvx``: cvxpy takes most of a second to load).
 - :mod:`milp.bounds`: spanning-tree bounds every model starts from.
 - :mod:`milp.colgen`: certified lower bounds from column generation over routes
   (relaxed pricing, valid when stopped early), for instances too large to prove.
 - :func:`frontier`: optimal makespan for ``k = 1, 2, ...`` robots.
 
-This package imports only numpy, scipy, numba, highspy and cvxpy.
+This package imports only numpy, scipy, numba, highspy and cvxpy, each on first use: the names
+below are loaded when first read (``milp.arcflow``, ``from milp import setpart``), so
+``import milp`` costs nothing and a program pays only for the models it runs.
 """
 
-from milp import arcflow, bounds, branchprice, colgen, cvx, setpart
-from milp.arcflow import ArcModel, build_model, min_makespan, min_robots
-from milp.frontier import frontier
-from milp.highs import write_model
-from milp.result import MilpResult, relative_gap
+from __future__ import annotations
 
-__all__ = [
-    "ArcModel",
-    "MilpResult",
-    "arcflow",
-    "bounds",
-    "branchprice",
-    "colgen",
-    "build_model",
-    "cvx",
-    "frontier",
-    "min_makespan",
-    "min_robots",
-    "relative_gap",
-    "setpart",
-    "write_model",
-]
+import importlib
+from typing import Any
+
+_SUBMODULES = ("arcflow", "bounds", "branchprice", "colgen", "cvx", "setpart")
+# Public functions and classes -> the module defining them.
+_DEFINED_IN = {
+    "ArcModel": "milp.arcflow",
+    "build_model": "milp.arcflow",
+    "min_makespan": "milp.arcflow",
+    "min_robots": "milp.arcflow",
+    "frontier": "milp.frontier",
+    "write_model": "milp.highs",
+    "MilpResult": "milp.result",
+    "relative_gap": "milp.result",
+}
+
+__all__ = sorted((*_SUBMODULES, *_DEFINED_IN))
+
+
+def __getattr__(name: str) -> Any:
+    """Import a public name's module on first use (PEP 562)."""
+    if name in _SUBMODULES:
+        value = importlib.import_module(f"milp.{name}")
+    elif name in _DEFINED_IN:
+        value = getattr(importlib.import_module(_DEFINED_IN[name]), name)
+    else:
+        raise AttributeError(f"module 'milp' has no attribute {name!r}")
+    globals()[name] = value
+    return value

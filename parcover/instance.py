@@ -24,14 +24,14 @@ import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.csgraph import dijkstra
-from scipy.spatial.distance import cdist
 
 from parcover.errors import InputError
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
 
 __all__ = ["Instance", "InstanceError", "MapInfo", "ShortEdgeWarning", "Metric"]
 
@@ -158,7 +158,7 @@ class Instance:
                 set_(self, "_key_nodes", _readonly(np.arange(len(key))))
                 set_(self, "_key_row_of_node", None)
                 set_(self, "_predecessors", None)
-                set_(self, "distances", _readonly(cdist(xy, xy)))
+                set_(self, "distances", _readonly(_euclidean_matrix(xy)))
                 return
             # TSPLIB rounding: the complete graph of rounded weights, then its closure.
             i, j = np.triu_indices(len(key), k=1)
@@ -175,6 +175,8 @@ class Instance:
         self, key: tuple[str, ...], edges: tuple[tuple[str, str, float], ...]
     ) -> None:
         """Shortest paths from the start and every KPOI over the edge graph."""
+        from scipy.sparse.csgraph import dijkstra  # scipy takes a while to load: only graphs need it
+
         nodes: dict[str, int] = {}
         for u, v, _ in edges:
             nodes.setdefault(u, len(nodes))
@@ -520,6 +522,11 @@ def _straight_line(u: str, v: str, coordinates: Mapping[str, Point] | None) -> f
     return math.hypot(x1 - x2, y1 - y2)
 
 
+def _euclidean_matrix(xy: np.ndarray) -> np.ndarray:
+    """Pairwise straight-line distances between the rows of ``xy``."""
+    return np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1])
+
+
 def _tsplib_round(x: Any) -> Any:
     """TSPLIB's ``nint``: round half up (Reinelt 1995, EUC_2D)."""
     return np.floor(np.asarray(x, dtype=float) + 0.5)
@@ -529,6 +536,8 @@ def _lightest_edge_graph(
     rows: np.ndarray, cols: np.ndarray, weights: np.ndarray, size: int
 ) -> sp.csr_array:
     """A sparse graph keeping the lightest of parallel edges (scipy would sum them)."""
+    import scipy.sparse as sp
+
     lo, hi = np.minimum(rows, cols), np.maximum(rows, cols)
     order = np.lexsort((weights, hi, lo))
     lo, hi, weights = lo[order], hi[order], weights[order]
