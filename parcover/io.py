@@ -2,11 +2,16 @@
 
 - JSON instance files: :func:`read_instance` / :func:`write_instance`, and the dict
   forms :func:`instance_from_dict` / :func:`instance_to_dict`.
-- TSPLIB ``.tsp`` files (EUC_2D), parsed by ``vrplib``: node 1 is the start, every
-  other node a KPOI; exact Euclidean distances unless ``metric="tsplib"``.
+- TSPLIB ``.tsp`` files (TYPE TSP, EUC_2D), parsed by ``vrplib``: node 1 is the start,
+  every other node a KPOI, each named by its number in the file; exact Euclidean
+  distances unless ``metric="tsplib"``.
+- :func:`write_text_atomic`: every file parcover writes appears whole or not at all.
 
 Every problem with a file raises :class:`FileFormatError` (an
-:class:`~parcover.errors.InputError`) with one line naming the file and the problem.
+:class:`~parcover.errors.InputError`) with one line naming the file and the problem:
+only regular files up to :data:`MAX_FILE_BYTES` are read (a FIFO would block, a device
+never end), and JSON with duplicate keys or nested deeper than Python can parse is
+refused rather than half-read.
 """
 
 from __future__ import annotations
@@ -14,6 +19,8 @@ from __future__ import annotations
 import json
 import math
 import os
+import stat
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -29,9 +36,15 @@ __all__ = [
     "instance_to_dict",
     "read_tsplib",
     "read_json",
+    "write_text_atomic",
+    "MAX_FILE_BYTES",
 ]
 
 _REQUIRED = ("start", "kpois")
+
+#: Instance and solution files larger than this are refused before reading (256 MiB:
+#: ten times a million-node TSPLIB file; JSON takes several times its size in memory).
+MAX_FILE_BYTES = 256 * 2**20
 
 
 class FileFormatError(InputError):
@@ -50,7 +63,7 @@ def read_instance(path: str | os.PathLike[str], *, metric: Metric | None = None)
         ``"tsplib"`` (TSPLIB's ``nint`` rounding). ``None`` keeps the file's own
         (``"euclidean"`` for TSPLIB files, as in the min-max mTSP literature).
     """
-    path = Path(path)
+    path = _as_path(path)
     if path.suffix.lower() == ".tsp":
         return read_tsplib(path, metric=metric or "euclidean")
     data = read_json(path)
@@ -66,30 +79,66 @@ load = read_instance
 
 
 def read_json(path: str | os.PathLike[str]) -> Any:
-    """Parse a JSON file, with one-line errors for missing or malformed files."""
-    path = Path(path)
+    """Parse a JSON file, with one-line errors for missing or malformed files.
+
+    Refused: ``NaN``/``Infinity`` (not JSON), duplicate keys in an object (which
+    value was meant?), and nesting too deep for Python's parser.
+    """
+    path = _as_path(path)
+    text = _read_text(path)
     try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise FileFormatError(f"{path}: no such file.") from None
-    except IsADirectoryError:
-        raise FileFormatError(f"{path}: is a directory, not a file.") from None
-    except UnicodeDecodeError:
-        raise FileFormatError(f"{path}: not UTF-8 text.") from None
-    except OSError as exc:
-        raise FileFormatError(f"{path}: cannot be read ({exc.strerror}).") from None
-    try:
-        return json.loads(text, parse_constant=_reject_constant)
+        return json.loads(text, parse_constant=_reject_constant, object_pairs_hook=_unique_keys)
     except json.JSONDecodeError as exc:
         raise FileFormatError(
             f"{path}: malformed JSON at line {exc.lineno} column {exc.colno}: {exc.msg}."
         ) from None
+    except RecursionError:
+        raise FileFormatError(f"{path}: JSON nested too deeply to read.") from None
     except ValueError as exc:
         raise FileFormatError(f"{path}: {exc}") from None
 
 
+def _as_path(path: Any) -> Path:
+    if not isinstance(path, (str, os.PathLike)):
+        raise InputError(f"Expected a file path (str or os.PathLike), got {type(path).__name__} {path!r}.")
+    return Path(path)
+
+
+def _read_text(path: Path) -> str:
+    """The UTF-8 text of a regular file of at most :data:`MAX_FILE_BYTES`."""
+    try:
+        info = path.stat()
+    except FileNotFoundError:
+        raise FileFormatError(f"{path}: no such file.") from None
+    except OSError as exc:
+        raise FileFormatError(f"{path}: cannot be read ({exc.strerror}).") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise FileFormatError(f"{path}: is a directory, not a file.")
+    if not stat.S_ISREG(info.st_mode):
+        raise FileFormatError(f"{path}: not a regular file (a pipe or a device?).")
+    if info.st_size > MAX_FILE_BYTES:
+        raise FileFormatError(
+            f"{path}: {info.st_size / 2**20:.0f} MiB is larger than the {MAX_FILE_BYTES // 2**20} MiB parcover reads."
+        )
+    try:
+        return path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise FileFormatError(f"{path}: not UTF-8 text.") from None
+    except OSError as exc:
+        raise FileFormatError(f"{path}: cannot be read ({exc.strerror}).") from None
+
+
 def _reject_constant(name: str) -> Any:
     raise ValueError(f"{name} is not a valid JSON number.")
+
+
+def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    data: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in data:
+            raise ValueError(f"duplicate key {key!r} in a JSON object.")
+        data[key] = value
+    return data
 
 
 def instance_from_dict(
@@ -158,26 +207,65 @@ def write_instance(instance: Instance, path: str | os.PathLike[str] | None = Non
         data["map"]["image"] = os.path.relpath(data["map"]["image"], Path(path).resolve().parent)
     text = _readable_json(data)
     if path is not None:
-        Path(path).write_text(text, encoding="utf-8")
+        write_text_atomic(path, text)
     return text
 
 
-def read_tsplib(path: str | os.PathLike[str], *, metric: Metric = "euclidean") -> Instance:
-    """A TSPLIB EUC_2D ``.tsp`` file: node 1 is the start, nodes 2..N the KPOIs.
+def write_text_atomic(path: str | os.PathLike[str], text: str) -> None:
+    """Write ``text`` to ``path`` whole or not at all.
 
-    Ids are the node numbers as strings. ``metric="euclidean"`` gives exact
-    distances (the min-max mTSP literature's convention), ``"tsplib"`` TSPLIB's
-    ``nint`` rounding (Reinelt 1991).
+    The text goes to a temporary file in the same folder, which then replaces
+    ``path`` in one step (``os.replace``): a full disk or an interruption leaves the
+    old file in place, never a truncated one.
+
+    Raises
+    ------
+    InputError
+        When the folder is missing or not writable, or the write fails.
     """
-    import vrplib
-
     path = Path(path)
-    if not path.is_file():
-        raise FileFormatError(f"{path}: no such file.")
+    folder = path.parent
     try:
-        data = vrplib.read_instance(path, instance_format="vrplib", compute_edge_weights=False)
+        handle, temporary = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=".tmp")
+    except OSError as exc:
+        raise InputError(f"Cannot write {path}: {exc.strerror} ({folder}).") from None
+    try:
+        with os.fdopen(handle, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.chmod(temporary, 0o666 & ~_umask())
+        os.replace(temporary, path)
+    except OSError as exc:
+        os.unlink(temporary)
+        raise InputError(f"Cannot write {path}: {exc.strerror}.") from None
+    except BaseException:
+        os.unlink(temporary)
+        raise
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def read_tsplib(path: str | os.PathLike[str], *, metric: Metric = "euclidean") -> Instance:
+    """A TSPLIB ``TYPE: TSP``, EUC_2D ``.tsp`` file: node 1 is the start, the others KPOIs.
+
+    Ids are the node numbers as written in the file (each once; ``DIMENSION`` must
+    count them). ``metric="euclidean"`` gives exact distances (the min-max mTSP
+    literature's convention), ``"tsplib"`` TSPLIB's ``nint`` rounding (Reinelt 1991).
+    """
+    from vrplib.parse import parse_vrplib
+
+    path = _as_path(path)
+    text = _read_text(path)
+    try:
+        data = parse_vrplib(text, compute_edge_weights=False)
     except Exception as exc:  # vrplib raises many kinds on malformed files
         raise FileFormatError(f"{path}: not a readable TSPLIB file ({type(exc).__name__}: {exc}).") from None
+    problem = str(data.get("type", "")).upper()
+    if problem != "TSP":
+        raise FileFormatError(f"{path}: TYPE {problem or '(missing)'} is not supported; expected TSP.")
     kind = str(data.get("edge_weight_type", "")).upper()
     if kind != "EUC_2D":
         raise FileFormatError(
@@ -186,16 +274,45 @@ def read_tsplib(path: str | os.PathLike[str], *, metric: Metric = "euclidean") -
     coords = data.get("node_coord")
     if coords is None or len(coords) < 2:
         raise FileFormatError(f"{path}: expected a NODE_COORD_SECTION with at least 2 nodes.")
+    ids = _tsplib_node_ids(text)
+    dimension = data.get("dimension")
+    if isinstance(dimension, bool) or not isinstance(dimension, int) or dimension != len(ids):
+        raise FileFormatError(f"{path}: DIMENSION {dimension!r} does not match the {len(ids)} nodes listed.")
+    duplicate = _first_duplicate(ids)
+    if duplicate is not None:
+        raise FileFormatError(f"{path}: node {duplicate} is listed twice in NODE_COORD_SECTION.")
+    if "1" not in ids:
+        raise FileFormatError(f"{path}: no node 1, the start.")
     try:
         return Instance.from_points(
-            coords,
-            start=0,
-            names=[str(i + 1) for i in range(len(coords))],
-            name=str(data.get("name", path.stem)),
-            metric=metric,
+            coords, start=ids.index("1"), names=ids, name=str(data.get("name", path.stem)), metric=metric
         )
     except InstanceError as exc:
         raise FileFormatError(f"{path}: {exc}") from None
+
+
+def _first_duplicate(values: list[str]) -> str | None:
+    seen: set[str] = set()
+    for v in values:
+        if v in seen:
+            return v
+        seen.add(v)
+    return None
+
+
+def _tsplib_node_ids(text: str) -> list[str]:
+    """The node numbers heading the lines of NODE_COORD_SECTION, as written."""
+    ids: list[str] = []
+    inside = False
+    for line in text.splitlines():
+        if "EOF" in line or (inside and "_SECTION" in line):
+            if inside:
+                break
+        elif "NODE_COORD_SECTION" in line:
+            inside = True
+        elif inside and line.split():
+            ids.append(line.split()[0])
+    return ids
 
 
 def _readable_json(data: dict[str, Any]) -> str:
