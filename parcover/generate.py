@@ -17,7 +17,7 @@ from typing import Literal
 import numpy as np
 
 from parcover.errors import InputError
-from parcover.instance import Instance
+from parcover.instance import Instance, check_whole
 
 __all__ = ["grid", "star", "random_points", "random_graph"]
 
@@ -33,8 +33,8 @@ def grid(rows: int = 3, cols: int = 3) -> Instance:
     ``rows * cols - 1`` cells are the KPOIs. On the 3x3 grid ``c_max = 4`` and the
     paper reports coverage times 8, 4, 4 for 1, 2, 3 robots.
     """
-    _check_count(rows, "rows", 1)
-    _check_count(cols, "cols", 1)
+    check_whole(rows, "rows", 1)
+    check_whole(cols, "cols", 1)
     if rows * cols < 2:
         raise InputError("A grid needs at least 2 cells.")
 
@@ -57,7 +57,7 @@ def star(n: int = 6, radius: float = 1.0) -> Instance:
     the circle are ``2 radius sin(pi / n)`` apart (``radius`` for n = 6, the
     paper's picture: 6 paths, 3 tours).
     """
-    _check_count(n, "n", 1)
+    check_whole(n, "n", 1)
     if not (math.isfinite(radius) and radius > 0):
         raise InputError(f"radius must be a positive number, got {radius!r}.")
     angles = 2 * np.pi * np.arange(n) / n
@@ -82,8 +82,9 @@ def random_points(
     point, the centre, or the corner (0, 0). Coordinates are rounded to 2 decimals
     so files stay readable.
     """
-    _check_count(n, "n", 1)
-    _check_count(clusters, "clusters", 1)
+    check_whole(n, "n", 1)
+    check_whole(clusters, "clusters", 1)
+    check_whole(seed, "seed", 0)
     if layout not in ("uniform", "clustered"):
         raise InputError(f"Unknown layout {layout!r}; expected 'uniform' or 'clustered'.")
     if start not in ("random", "center", "corner"):
@@ -125,9 +126,10 @@ def random_graph(
     """
     from scipy.spatial import Delaunay
 
-    _check_count(n, "n", 1)
+    check_whole(n, "n", 1)
+    check_whole(seed, "seed", 0)
     virtual = 2 * n if virtual is None else virtual
-    _check_count(virtual, "virtual", 0)
+    check_whole(virtual, "virtual", 0)
     if not (math.isfinite(detour) and detour >= 0):
         raise InputError(f"detour must be a number >= 0, got {detour!r}.")
     rng = np.random.default_rng(seed)
@@ -165,8 +167,3 @@ def _delaunay_pairs(points: np.ndarray, delaunay: type) -> list[tuple[int, int]]
         for a, b in ((simplex[0], simplex[1]), (simplex[1], simplex[2]), (simplex[0], simplex[2]))
     }
     return sorted((int(a), int(b)) for a, b in pairs)
-
-
-def _check_count(value: int, name: str, least: int) -> None:
-    if isinstance(value, bool) or not isinstance(value, int) or value < least:
-        raise InputError(f"{name} must be a whole number >= {least}, got {value!r}.")

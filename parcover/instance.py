@@ -14,12 +14,22 @@ between the start and the KPOIs:
 
 Index convention used by every algorithm: index 0 is the start and index ``i`` (1..n)
 is ``kpois[i - 1]``; :attr:`Instance.distances` is the ``(n + 1) x (n + 1)`` matrix.
+
+Numbers are real numbers (Python's or numpy's, never booleans or strings) whose
+float value is finite. The distances they give must be usable by every method: the
+largest is at least :data:`MIN_SCALE` (costs are compared with an absolute tolerance
+of 1e-9, design.md section 1) or 0, and the cost of any route and its square are
+finite floats (a route costs at most ``2 (n + 1)`` times the largest distance; methods
+compare squared costs, and `best` failed on coordinates near 1e200). An instance whose distance matrix would not
+fit in the memory available is refused before it is allocated.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
+import os
 import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -33,7 +43,12 @@ from parcover.errors import InputError
 if TYPE_CHECKING:
     import scipy.sparse as sp
 
-__all__ = ["Instance", "InstanceError", "MapInfo", "ShortEdgeWarning", "Metric"]
+__all__ = ["Instance", "InstanceError", "MapInfo", "ShortEdgeWarning", "Metric", "MIN_SCALE"]
+
+#: The largest distance of an instance, when not 0, must be at least this: costs are
+#: compared with an absolute tolerance of 1e-9 (design.md section 1), which must stay
+#: below a millionth of them.
+MIN_SCALE = 1e-3
 
 Metric = Literal["euclidean", "tsplib"]
 Point = tuple[float, float]
@@ -152,17 +167,19 @@ class Instance:
                     f"Missing coordinates for {role} {missing[0]!r} (needed when there are no edges)."
                 )
             xy = np.array([coordinates[v] for v in key], dtype=float)
+            _check_memory(_matrix_bytes(len(key), len(key)), len(kpois))
             if self.metric == "euclidean":
                 set_(self, "edges", None)
                 set_(self, "_nodes", key)
                 set_(self, "_key_nodes", _readonly(np.arange(len(key))))
                 set_(self, "_key_row_of_node", None)
                 set_(self, "_predecessors", None)
-                set_(self, "distances", _readonly(_euclidean_matrix(xy)))
+                set_(self, "distances", _readonly(_check_scale(_euclidean_matrix(xy), len(kpois))))
                 return
             # TSPLIB rounding: the complete graph of rounded weights, then its closure.
             i, j = np.triu_indices(len(key), k=1)
-            weights = _tsplib_round(np.hypot(*(xy[i] - xy[j]).T))
+            with np.errstate(over="ignore"):
+                weights = _check_scale(_tsplib_round(np.hypot(*(xy[i] - xy[j]).T)), len(kpois))
             edges = tuple(zip([key[a] for a in i], [key[b] for b in j], weights.tolist()))
         else:
             edges = _check_edges(self.edges, coordinates, self.metric)
@@ -189,6 +206,8 @@ class Instance:
         rows = np.fromiter((nodes[u] for u, _, _ in edges), dtype=np.int64, count=m)
         cols = np.fromiter((nodes[v] for _, v, _ in edges), dtype=np.int64, count=m)
         weights = np.fromiter((w for _, _, w in edges), dtype=float, count=m)
+        _check_path_sums(weights, len(nodes))
+        _check_memory(_matrix_bytes(len(key), len(nodes)), len(key) - 1)
         graph = _lightest_edge_graph(rows, cols, weights, len(nodes))
         key_nodes = np.array([nodes[v] for v in key], dtype=np.int64)
         dist, pred = dijkstra(graph, directed=False, indices=key_nodes, return_predecessors=True)
@@ -199,7 +218,7 @@ class Instance:
             )
         d = dist[:, key_nodes]
         set_ = object.__setattr__
-        set_(self, "distances", _readonly(np.minimum(d, d.T)))
+        set_(self, "distances", _readonly(_check_scale(np.minimum(d, d.T), len(key) - 1)))
         set_(self, "_nodes", tuple(nodes))
         key_row = np.full(len(nodes), -1, dtype=np.int64)
         key_row[key_nodes] = np.arange(len(key_nodes))
@@ -237,6 +256,11 @@ class Instance:
         ids = [str(i) for i in range(len(xy))] if names is None else [str(v) for v in names]
         if len(ids) != len(xy):
             raise InstanceError(f"Expected {len(xy)} names, got {len(ids)}.")
+        duplicate = _first_duplicate(ids)
+        if duplicate is not None:
+            raise InstanceError(f"Duplicate name {duplicate!r} in names.")
+        if not is_whole(start):
+            raise InstanceError(f"The start must be a row number, got {start!r}.")
         if not 0 <= start < len(xy):
             raise InstanceError(f"Start row {start} is out of range for {len(xy)} points.")
         coordinates = {v: (float(x), float(y)) for v, (x, y) in zip(ids, xy)}
@@ -258,13 +282,24 @@ class Instance:
 
         Node ids are converted to strings. Edge weights come from the ``weight``
         attribute (Euclidean between ``pos`` attributes when it is missing); node
-        coordinates from the ``pos`` attribute where present.
+        coordinates from the ``pos`` attribute where present. ``kpois`` may be any
+        iterable (a generator too). A directed graph is accepted only when it is an
+        undirected one written twice: every edge has its reverse, of the same weight.
         """
+        import networkx as nx
+
+        if not isinstance(graph, nx.Graph):
+            raise InstanceError(f"Expected a networkx graph, got {type(graph).__name__}.")
+        if isinstance(kpois, str) or not isinstance(kpois, Iterable):
+            raise InstanceError(f"kpois must be an iterable of graph nodes, got {kpois!r}.")
+        kpois = list(kpois)
+        if graph.is_directed():
+            _check_symmetric(graph, weight)
         label = {v: str(v) for v in graph.nodes}
         if len(set(label.values())) != len(label):
             raise InstanceError("Graph node ids collide when converted to strings.")
         for v in (start, *kpois):
-            if v not in label:
+            if not _hashable(v) or v not in label:
                 raise InstanceError(f"Node {v!r} is not in the graph.")
         coordinates = {
             label[v]: tuple(data[pos]) for v, data in graph.nodes(data=True) if pos in data
@@ -459,12 +494,10 @@ def _check_coordinates(coordinates: Any) -> Mapping[str, Point] | None:
     out: dict[str, Point] = {}
     for v, xy in coordinates.items():
         _check_id(v, "coordinate id")
-        try:
-            x, y = (float(c) for c in xy)
-        except (TypeError, ValueError):
-            raise InstanceError(f"Coordinates of {v!r} must be two numbers, got {xy!r}.") from None
-        if not (math.isfinite(x) and math.isfinite(y)):
-            raise InstanceError(f"Coordinates of {v!r} must be finite, got {xy!r}.")
+        pair = isinstance(xy, (Sequence, np.ndarray)) and not isinstance(xy, (str, bytes)) and len(xy) == 2
+        if not (pair and all(is_number(c) for c in xy)):
+            raise InstanceError(f"Coordinates of {v!r} must be two numbers, got {_short(xy)}.")
+        x, y = (_float(c, f"Coordinates of {v!r} have a", "coordinate") for c in xy)
         out[v] = (x, y)
     return MappingProxyType(out)
 
@@ -492,11 +525,9 @@ def _check_edges(
             w = float(_tsplib_round(straight)) if metric == "tsplib" else straight
         else:
             w = edge[2]
-            if isinstance(w, bool) or not isinstance(w, (int, float)):
-                raise InstanceError(f"Edge {number} [{u!r}, {v!r}] has a non-numeric weight {w!r}.")
-            w = float(w)
-            if not math.isfinite(w):
-                raise InstanceError(f"Edge {number} [{u!r}, {v!r}] has a non-finite weight {w}.")
+            if not is_number(w):
+                raise InstanceError(f"Edge {number} [{u!r}, {v!r}] has a non-numeric weight {_short(w)}.")
+            w = _float(w, f"Edge {number} [{u!r}, {v!r}] has a", "weight")
             if w < 0:
                 raise InstanceError(f"Edge {number} [{u!r}, {v!r}] has a negative weight {w}.")
             if metric == "euclidean" and straight is not None and w < straight * (1 - 1e-9) - 1e-9:
@@ -515,6 +546,147 @@ def _check_edges(
     return tuple(out)
 
 
+def is_number(x: Any) -> bool:
+    """A real number, Python's or numpy's (``np.float32(2)``); booleans are not numbers here."""
+    return isinstance(x, numbers.Real) and not isinstance(x, bool)
+
+
+def is_whole(x: Any) -> bool:
+    """An integer, Python's or numpy's (``np.int64(2)``); booleans are not."""
+    return isinstance(x, numbers.Integral) and not isinstance(x, bool)
+
+
+def check_whole(value: Any, name: str, least: int) -> int:
+    """``value`` as an ``int`` when it is a whole number >= ``least``, else :class:`InputError`."""
+    if not is_whole(value) or value < least:
+        raise InputError(f"{name} must be a whole number >= {least}, got {value!r}.")
+    return int(value)
+
+
+def _float(x: Any, subject: str, noun: str) -> float:
+    """``float(x)`` for a real number ``x``, refusing what no finite float represents.
+
+    Messages read "{subject} non-finite {noun} inf." and "{subject} {noun} too
+    large for a float (...)."
+    """
+    try:
+        value = float(x)
+    except OverflowError:
+        raise InstanceError(f"{subject} {noun} too large for a float ({_short(x)}).") from None
+    if not math.isfinite(value):
+        raise InstanceError(f"{subject} non-finite {noun} {value}.")
+    return value
+
+
+def _short(x: Any) -> str:
+    """``repr(x)``, cut to a readable length (a 400-digit integer is not)."""
+    text = repr(x)
+    return text if len(text) <= 40 else f"{text[:20]}...({len(text)} characters)"
+
+
+def _hashable(x: Any) -> bool:
+    try:
+        hash(x)
+    except TypeError:
+        return False
+    return True
+
+
+def _first_duplicate(values: Iterable[str]) -> str | None:
+    seen: set[str] = set()
+    for v in values:
+        if v in seen:
+            return v
+        seen.add(v)
+    return None
+
+
+def _check_symmetric(graph: Any, weight: str) -> None:
+    """A directed networkx graph must be an undirected one: each edge and its reverse, same weight."""
+    if graph.is_multigraph():
+        raise InstanceError("A directed multigraph is not a map; give an undirected networkx Graph.")
+    for u, v, data in graph.edges(data=True):
+        if not graph.has_edge(v, u):
+            raise InstanceError(
+                f"Directed edge {u!r} -> {v!r} has no reverse edge; parcover's maps are undirected."
+            )
+        back = graph.edges[v, u].get(weight)
+        if back != data.get(weight):
+            raise InstanceError(
+                f"Edge {u!r} -> {v!r} weighs {data.get(weight)!r} but {v!r} -> {u!r} weighs {back!r}; "
+                "parcover's maps are undirected."
+            )
+
+
+def _check_path_sums(weights: np.ndarray, nodes: int) -> None:
+    """A shortest path adds at most ``nodes - 1`` weights: their sum must be finite."""
+    heaviest = float(weights.max())
+    if not math.isfinite(heaviest * nodes):
+        raise InstanceError(
+            f"Edge weights up to {heaviest:g} overflow when {nodes} of them are added along a path."
+        )
+
+
+def _check_scale(distances: np.ndarray, n: int) -> np.ndarray:
+    """Refuse distances that overflow, whose route sums (or their squares) overflow, or that
+    drown in the tolerance."""
+    if not np.all(np.isfinite(distances)):
+        raise InstanceError("Distances overflow: the coordinates are too far apart for a float.")
+    largest = float(distances.max()) if distances.size else 0.0
+    longest_route = largest * 2 * (n + 1)
+    if not math.isfinite(longest_route * longest_route):
+        raise InstanceError(
+            f"Distances up to {largest:g} are too large: route costs over {n} KPOIs and their squares "
+            "must be finite floats."
+        )
+    if 0 < largest < MIN_SCALE:
+        raise InstanceError(
+            f"The largest distance is {largest:g}, below {MIN_SCALE:g}: costs this small are lost in the "
+            "tolerance of 1e-9; use a smaller unit."
+        )
+    return distances
+
+
+def _matrix_bytes(rows: int, cols: int) -> int:
+    """Peak bytes of building a ``rows x cols`` distance matrix (three float arrays of it)."""
+    return 3 * 8 * rows * cols
+
+
+def _check_memory(needed: int, n: int) -> None:
+    """Refuse, before allocating, a matrix larger than the memory available."""
+    available = _available_memory()
+    if available is not None and needed > available:
+        raise InstanceError(
+            f"An instance of {n} KPOIs needs about {needed / 2**30:.1f} GiB for its distances, more than "
+            f"the {available / 2**30:.1f} GiB of memory available."
+        )
+
+
+def _available_memory() -> int | None:
+    """Bytes of memory available to this process (Linux ``MemAvailable`` and cgroup limit), if known."""
+    limits = []
+    try:
+        with open("/proc/meminfo", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    limits.append(int(line.split()[1]) * 1024)
+    except (OSError, ValueError):
+        pass
+    try:
+        with open("/sys/fs/cgroup/memory.max", encoding="ascii") as f:
+            text = f.read().strip()
+        with open("/sys/fs/cgroup/memory.current", encoding="ascii") as f:
+            limits.append(int(text) - int(f.read().strip()))
+    except (OSError, ValueError):  # no cgroup v2 limit ("max" is not a number)
+        pass
+    if not limits and hasattr(os, "sysconf"):
+        try:
+            limits.append(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+        except (OSError, ValueError):
+            pass
+    return min(limits) if limits else None
+
+
 def _straight_line(u: str, v: str, coordinates: Mapping[str, Point] | None) -> float | None:
     if coordinates is None or u not in coordinates or v not in coordinates:
         return None
@@ -523,8 +695,9 @@ def _straight_line(u: str, v: str, coordinates: Mapping[str, Point] | None) -> f
 
 
 def _euclidean_matrix(xy: np.ndarray) -> np.ndarray:
-    """Pairwise straight-line distances between the rows of ``xy``."""
-    return np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1])
+    """Pairwise straight-line distances between the rows of ``xy`` (``inf`` on overflow)."""
+    with np.errstate(over="ignore"):
+        return np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1])
 
 
 def _tsplib_round(x: Any) -> Any:

@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from parcover.errors import InputError
-from parcover.instance import Instance, InstanceError, MapInfo, Metric
+from parcover.instance import Instance, InstanceError, MapInfo, Metric, _first_duplicate
 
 __all__ = [
     "FileFormatError",
@@ -291,15 +291,6 @@ def read_tsplib(path: str | os.PathLike[str], *, metric: Metric = "euclidean") -
         raise FileFormatError(f"{path}: {exc}") from None
 
 
-def _first_duplicate(values: list[str]) -> str | None:
-    seen: set[str] = set()
-    for v in values:
-        if v in seen:
-            return v
-        seen.add(v)
-    return None
-
-
 def _tsplib_node_ids(text: str) -> list[str]:
     """The node numbers heading the lines of NODE_COORD_SECTION, as written."""
     ids: list[str] = []
@@ -320,12 +311,12 @@ def _readable_json(data: dict[str, Any]) -> str:
     parts = []
     for key, value in data.items():
         if key == "coordinates":
-            body = ",\n".join(f"    {json.dumps(k)}: {json.dumps(v)}" for k, v in value.items())
+            body = ",\n".join(f"    {json.dumps(k)}: {json.dumps(v, allow_nan=False)}" for k, v in value.items())
             text = "{\n" + body + "\n  }"
         elif key == "edges":
-            text = "[\n" + ",\n".join(f"    {json.dumps(e)}" for e in value) + "\n  ]"
+            text = "[\n" + ",\n".join(f"    {json.dumps(e, allow_nan=False)}" for e in value) + "\n  ]"
         else:
-            text = json.dumps(value)
+            text = json.dumps(value, allow_nan=False)
         parts.append(f"  {json.dumps(key)}: {text}")
     return "{\n" + ",\n".join(parts) + "\n}\n"
 

@@ -34,7 +34,7 @@ from shapely.geometry import LineString, MultiPolygon, Point, Polygon
 from shapely.geometry.polygon import orient
 from shapely.ops import polygonize, unary_union
 
-from parcover.instance import Instance, InstanceError, MapInfo
+from parcover.instance import Instance, InstanceError, MapInfo, check_whole
 
 __all__ = [
     "FreeSpace",
@@ -422,6 +422,7 @@ def instance_from_map(
     """
     if graph not in ("decomposition", "visibility"):
         raise MapError(f"Unknown graph method {graph!r}; expected 'decomposition' or 'visibility'.")
+    check_whole(seed, "seed", 0)
     space = free_space(image, metres_per_pixel, robot_radius=robot_radius, origin=origin, tolerance=tolerance)
     s: XY = _random_start(space, seed) if start is None else (float(start[0]), float(start[1]))
     if start is not None:

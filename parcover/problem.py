@@ -15,7 +15,7 @@ from collections.abc import Callable
 from typing import Any, Protocol
 
 from parcover.errors import InputError
-from parcover.instance import Instance
+from parcover.instance import Instance, is_number, is_whole
 from parcover.result import Objective, RoutesKind, Status
 
 __all__ = [
@@ -66,10 +66,11 @@ class Problem:
         if self.routes not in ("paths", "tours"):
             raise InputError(f"Unknown route kind {self.routes!r}; expected 'paths' or 'tours'.")
         if self.robots is not None:
-            if isinstance(self.robots, bool) or not isinstance(self.robots, int) or self.robots < 1:
+            if not is_whole(self.robots) or self.robots < 1:
                 raise InputError(f"The robot limit must be a whole number >= 1, got {self.robots!r}.")
+            object.__setattr__(self, "robots", int(self.robots))
         if self.deadline is not None:
-            if isinstance(self.deadline, bool) or not isinstance(self.deadline, (int, float)):
+            if not is_number(self.deadline):
                 raise InputError(f"The deadline must be a number, got {self.deadline!r}.")
             if not math.isfinite(self.deadline) or self.deadline < 0:
                 raise InputError(f"The deadline must be finite and >= 0, got {self.deadline!r}.")

@@ -221,7 +221,7 @@ class Frontier:
 
 def _json_lines(data: dict[str, Any]) -> str:
     """A JSON object with one top-level key per line and compact values."""
-    body = ",\n".join(f"  {json.dumps(k)}: {json.dumps(v)}" for k, v in data.items())
+    body = ",\n".join(f"  {json.dumps(k)}: {json.dumps(v, allow_nan=False)}" for k, v in data.items())
     return "{\n" + body + "\n}"
 
 

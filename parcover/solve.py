@@ -16,7 +16,7 @@ from typing import Any
 
 from parcover.bounds import lower_bound, robots_lower_bound
 from parcover.errors import InputError
-from parcover.instance import Instance
+from parcover.instance import Instance, check_whole, is_number
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.result import Result, RoutesKind, Status, gap
 from parcover.verify import InvalidSolution, verify
@@ -90,17 +90,24 @@ def solve(
     Raises
     ------
     InputError
-        On an unknown method or option, or an invalid question.
+        On an unknown method or option, an invalid question or argument (a file
+        path instead of an :class:`Instance`: read it with :func:`parcover.load`).
     SolverError
         If the method's routes fail the verifier (a bug).
     """
+    if not isinstance(instance, Instance):
+        raise InputError(
+            f"Expected an Instance, got {type(instance).__name__} {instance!r}; read a file with pc.load(path)."
+        )
     problem = Problem(routes, robots, deadline)
     info = _method(method)
     unknown = sorted(set(options) - set(info.options))
     if unknown:
         raise InputError(f"Method {method!r} takes no option {unknown[0]!r}.")
-    if time_limit is not None and not time_limit > 0:
+    if time_limit is not None and not (is_number(time_limit) and 0 < time_limit < float("inf")):
         raise InputError(f"The time limit must be a positive number of seconds, got {time_limit!r}.")
+    seed = check_whole(seed, "seed", 0)
+    time_limit = None if time_limit is None else float(time_limit)
     started = time.perf_counter()
     limit = problem.effective_deadline(instance)
     if limit is not None and not meets_deadline(problem.least_makespan(instance), limit):
@@ -180,7 +187,7 @@ def _id_routes(instance: Instance, routes: list[list[int]], *, tours: bool) -> l
 
 def _method(name: str) -> MethodInfo:
     _load_methods()
-    if name not in METHODS:
+    if not isinstance(name, str) or name not in METHODS:
         raise InputError(f"Unknown method {name!r}; expected one of {', '.join(sorted(METHODS))}.")
     return METHODS[name]
 
