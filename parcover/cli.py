@@ -7,18 +7,20 @@ finds the solution invalid, 2 with one line on stderr for usage errors and bad i
 from __future__ import annotations
 
 import argparse
+import os
 import shlex
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 from typing import NoReturn
 
+from parcover import __version__
 from parcover import generate as gen
 from parcover.errors import InputError
 from parcover.frontier import frontier
 from parcover.result import Result
 from parcover.instance import Instance
-from parcover.io import FileFormatError, read_instance, read_json, write_instance
+from parcover.io import FileFormatError, read_instance, read_json, write_instance, write_text_atomic
 from parcover.solve import available_methods, solve
 from parcover.verify import InvalidSolution, verify
 
@@ -51,12 +53,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"parcover {args.command}: interrupted", file=sys.stderr)
         return 130
+    except MemoryError:
+        print(f"parcover {args.command}: error: not enough memory for this instance.", file=sys.stderr)
+        return 2
 
 
 # -- commands ------------------------------------------------------------------------
 
 
 def _solve(args: argparse.Namespace) -> int:
+    _check_outputs(args, out=args.out, plot=args.plot, model=args.export_model)
     instance = read_instance(args.instance, metric=args.distance)
     options: dict[str, object] = {"trace": True} if args.trace else {}
     if args.export_model:
@@ -75,10 +81,10 @@ def _solve(args: argparse.Namespace) -> int:
         for line in result.info.get("trace", []):
             print(line)
         print()
+    if args.plot and not result.routes:
+        raise InputError(f"No routes to draw: the answer is {result.status.value}.")
     _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
     if args.plot:
-        if not result.routes:
-            raise InputError(f"No routes to draw: the answer is {result.status.value}.")
         from parcover.plot import plot_routes
 
         plot_routes(instance, result, args.plot)
@@ -110,6 +116,7 @@ def _verify(args: argparse.Namespace) -> int:
 
 
 def _frontier(args: argparse.Namespace) -> int:
+    _check_outputs(args, out=args.out, plot=args.plot)
     instance = read_instance(args.instance, metric=args.distance)
     progress = _print_frontier_point if sys.stderr.isatty() else None
     result = frontier(
@@ -126,6 +133,8 @@ def _frontier(args: argparse.Namespace) -> int:
 def _report(args: argparse.Namespace) -> int:
     from parcover.report import write_report
 
+    if os.path.exists(args.out) and not os.path.isdir(args.out):
+        raise InputError(f"--out {args.out} is a file; the report needs a folder.")
     path = write_report(
         args.instances,
         args.out,
@@ -192,10 +201,7 @@ def _generate(args: argparse.Namespace) -> int:
     if args.name:
         instance = instance.replace(name=args.name)
     if args.out:
-        try:
-            write_instance(instance, args.out)
-        except OSError as exc:
-            raise InputError(f"Cannot write {args.out}: {exc.strerror}.") from None
+        write_instance(instance, args.out)
     else:
         sys.stdout.write(write_instance(instance))
     return 0
@@ -217,20 +223,51 @@ def _map_instance(args: argparse.Namespace) -> Instance:
 def _emit(text: str, json_text: str, out: str | None) -> None:
     print(text)
     if out:
-        _write(out, json_text + "\n")
+        write_text_atomic(out, json_text + "\n")
 
 
-def _write(path: str, text: str) -> None:
-    try:
-        Path(path).write_text(text, encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"Cannot write {path}: {exc.strerror}.") from None
+#: What ``--plot`` draws to (matplotlib picks the format from the suffix).
+_PLOT_SUFFIXES = (".png", ".pdf", ".svg")
+
+
+def _check_outputs(
+    args: argparse.Namespace, *, out: str | None, plot: str | None, model: str | None = None
+) -> None:
+    """Refuse output paths that cannot be written, before any work or any file is written.
+
+    ``--out`` must not be the instance itself; ``--plot`` needs a drawing suffix and
+    ``--export-model`` ``.mps`` or ``.lp``; every folder must exist.
+    """
+    if out and os.path.exists(out) and os.path.exists(args.instance) and os.path.samefile(out, args.instance):
+        raise InputError(f"--out {out} is the instance file; choose another name.")
+    if plot and not plot.lower().endswith(_PLOT_SUFFIXES):
+        raise InputError(f"--plot {plot}: the file must end in one of {', '.join(_PLOT_SUFFIXES)}.")
+    if model and not model.endswith((".mps", ".lp")):
+        raise InputError(f"--export-model {model}: the file must end in .mps or .lp.")
+    for flag, path in (("--out", out), ("--plot", plot), ("--export-model", model)):
+        if not path:
+            continue
+        if os.path.isdir(path):
+            raise InputError(f"{flag} {path} is a folder, not a file name.")
+        folder = os.path.dirname(path) or "."
+        if not os.path.isdir(folder):
+            raise InputError(f"Cannot write {flag} {path}: no folder {folder}.")
 
 
 def _positive_float(text: str) -> float:
     value = _float(text)
     if not value > 0:
         raise argparse.ArgumentTypeError(f"must be > 0, got {text!r}")
+    return value
+
+
+def _seed(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
     return value
 
 
@@ -259,6 +296,7 @@ def _add_common(p: argparse.ArgumentParser, *, routes: bool = True) -> None:
 
 def _build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="parcover", description="Exact and greedy multi-robot parallel coverage.")
+    parser.add_argument("--version", action="version", version=f"parcover {__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     p = commands.add_parser(
@@ -274,7 +312,7 @@ def _build_parser() -> argparse.ArgumentParser:
     p.add_argument("--method", default="exact", help="solution method (see below; default: exact)")
     limits = p.add_argument_group("limits")
     limits.add_argument("--time-limit", type=_positive_float, metavar="SECONDS", help="time limit of the method")
-    limits.add_argument("--seed", type=int, default=0, help="seed of randomised methods (default: 0)")
+    limits.add_argument("--seed", type=_seed, default=0, help="seed of randomised methods (default: 0)")
     p.add_argument("--trace", action="store_true", help="print every step of the paper's algorithms")
     p.add_argument("--export-model", metavar="FILE.mps",
                    help="write the compact MILP (method exact) to an .mps or .lp file any MILP solver reads")
@@ -294,7 +332,7 @@ def _build_parser() -> argparse.ArgumentParser:
     _add_common(p)
     p.add_argument("--method", default="exact", help="solution method (default: exact)")
     p.add_argument("--time-limit", type=_positive_float, metavar="SECONDS", help="time limit for each k")
-    p.add_argument("--seed", type=int, default=0, help="seed of randomised methods (default: 0)")
+    p.add_argument("--seed", type=_seed, default=0, help="seed of randomised methods (default: 0)")
     p.add_argument("--json", action="store_true", help="print the frontier as one JSON object")
     p.add_argument("--out", metavar="FILE", help="also write the frontier JSON to FILE")
     p.add_argument("--plot", metavar="FILE.png", help="draw robots against makespan")
@@ -318,7 +356,7 @@ def _build_parser() -> argparse.ArgumentParser:
     p.add_argument("--reference", default="exact", help="the exact method giving the optimum (default: exact)")
     p.add_argument("--time-limit", type=_positive_float, default=60.0, metavar="SECONDS",
                    help="per solve, methods and reference alike (default: 60)")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=_seed, default=0)
     p.add_argument("--workers", type=int, default=None, help="local processes (default: min(2, cores))")
     p.add_argument("--scheduler", metavar="ADDRESS", help="run on a Dask cluster instead (dask.distributed)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -331,7 +369,7 @@ def _build_parser() -> argparse.ArgumentParser:
         description="Checks Props. 1-2, Figs. 1 and 3 and the optimality claims of Algorithms 1, 1-1 "
         "and 2 against exact optima on grids, stars, random and graph instances; shrinks counterexamples.",
     )
-    p.add_argument("--seed", type=int, default=0, help="seed of the random instance families (default: 0)")
+    p.add_argument("--seed", type=_seed, default=0, help="seed of the random instance families (default: 0)")
     p.add_argument("--quick", action="store_true", help="small families only (seconds)")
     p.add_argument("--time-limit", type=_positive_float, default=10.0, metavar="SECONDS",
                    help="per exact solve (default: 10); unproven instances count as undecided")
@@ -372,7 +410,7 @@ def _build_parser() -> argparse.ArgumentParser:
     g.add_argument("--origin", type=_float, nargs=2, default=(0.0, 0.0), metavar=("X", "Y"),
                    help="world position of the image's lower-left corner (default: 0 0)")
     for g in kinds.choices.values():
-        g.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
+        g.add_argument("--seed", type=_seed, default=0, help="random seed (default: 0)")
         g.add_argument("--name", help="instance name (default: derived from the parameters)")
         g.add_argument("--out", metavar="FILE", help="write to FILE instead of stdout")
     p.set_defaults(run=_generate)
