@@ -78,12 +78,51 @@ def test_tsplib_rounding_on_request():
         ("bad_coordinate.tsp", "Points must be numbers"),  # a coordinate reads 'zero'
         ("single_node.tsp", "at least 2 nodes"),  # a start and no KPOI
         ("missing.json", "no such file"),  # not there at all
+        # hostile numbers (issue 14): each must be refused, not overflow or underflow into an answer
+        ("huge_integer_weight.json", "weight too large for a float"),  # 400 digits: no float holds it
+        ("overflowing_coordinates.json", "Distances overflow"),  # +-1e308 apart: the distance is inf
+        ("huge_coordinates.json", "are too large"),  # 1e200: finite, but squared route costs overflow
+        ("overflowing_weights.json", "overflow when 3 of them are added"),  # 1e308 + 1e308 is inf, not unreachable
+        ("tiny_coordinates.json", "below 0.001"),  # 1e-200: every cost is lost in the tolerance 1e-9
+        # coordinates are a list of two numbers, nothing else
+        ("string_coordinates.json", "Coordinates of 's' must be two numbers"),  # "00" is not (0, 0)
+        ("digit_string_coordinates.json", "Coordinates of 'a' must be two numbers"),  # nor is "12" (1, 2)
+        ("text_coordinates.json", "Coordinates of 's' must be two numbers"),  # ["1", "0"] holds strings
+        ("boolean_coordinates.json", "Coordinates of 's' must be two numbers"),  # [true, false] is not (1, 0)
+        ("duplicate_key.json", "duplicate key 'start'"),  # which start was meant? JSON would keep the last
+        # TSPLIB headers must describe the nodes listed
+        ("dimension_too_small.tsp", "DIMENSION 2 does not match the 4 nodes"),  # 4 nodes listed
+        ("dimension_too_large.tsp", "DIMENSION 10 does not match the 4 nodes"),  # 4 nodes listed
+        ("dimension_word.tsp", "DIMENSION 'four' does not match"),  # a dimension is a number
+        ("cvrp.tsp", "TYPE CVRP is not supported"),  # demands and capacities would be ignored
+        ("duplicate_node.tsp", "node 2 is listed twice"),  # renumbering would name a node not in the file
+        ("no_node_one.tsp", "no node 1"),  # node 1 is the start
     ],
 )
 def test_bad_files_are_refused_with_one_line(name, message):
     with pytest.raises(FileFormatError, match=message) as info:
         load(BAD / name)
     assert str(info.value).startswith(str(BAD / name)) and "\n" not in str(info.value)
+
+
+def test_tsplib_nodes_keep_their_numbers(tmp_path):
+    # ids are the numbers written in the file, even when they skip some
+    path = tmp_path / "gaps.tsp"
+    path.write_text("NAME : gaps\nTYPE : TSP\nDIMENSION : 3\nEDGE_WEIGHT_TYPE : EUC_2D\n"
+                    "NODE_COORD_SECTION\n1 0 0\n5 3 4\n7 0 1\nEOF\n")
+    inst = load(path)
+    assert inst.start == "1" and inst.kpois == ("5", "7") and inst.distance("1", "5") == 5
+
+
+@pytest.mark.parametrize("where", ["instance", "kpois"])
+def test_json_nested_100000_deep_is_refused(tmp_path, where):
+    # Python's parser recurses once per level: 100,000 levels is a RecursionError unless caught
+    deep = "[" * 100_000 + "]" * 100_000
+    text = deep if where == "instance" else '{"start": "s", "kpois": ' + deep + "}"
+    path = tmp_path / "deep.json"
+    path.write_text(text)
+    with pytest.raises(FileFormatError, match="nested too deeply"):
+        load(path)
 
 
 def test_bundled_instances_load():
