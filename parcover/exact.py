@@ -17,6 +17,7 @@ independently. Five methods:
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Callable
 from typing import Any
@@ -135,6 +136,9 @@ def _export(instance: Instance, problem: Problem, path: str) -> None:
 
     if not path.endswith((".mps", ".lp")):
         raise InputError(f"Cannot export the model to {path}: the file must end in .mps or .lp.")
+    folder = os.path.dirname(path) or "."
+    if not os.path.isdir(folder):
+        raise InputError(f"Cannot export the model to {path}: no folder {folder}.")
     model = arcflow.build_model(
         instance.distances,
         tours=problem.tours,

@@ -259,6 +259,7 @@ def test_numpy_scalars_are_numbers_everywhere():
         (lambda g: pc.solve(GRID), "read a file with pc.load"),  # a path, not an instance
         (lambda g: pc.solve(5), "Expected an Instance"),  # not an instance at all
         (lambda g: pc.load(5), "Expected a file path"),  # not a path
+        (lambda g: pc.solve(g, robots=2, export_model="no/such/m.mps"), "no folder no/such"),  # said "None"
         (lambda g: pc.generate.random_points(3, seed=-1), "seed must be a whole number >= 0"),  # numpy refuses it
         (lambda g: pc.Instance.from_points([[0, 0], [1, 0], [0, 1]], names=["a", "a", "b"]),
          "Duplicate name 'a'"),  # the start would move and a point vanish
