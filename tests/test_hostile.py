@@ -308,7 +308,7 @@ def test_a_symmetric_digraph_is_its_undirected_graph():
 
 # -- start-up -----------------------------------------------------------------------
 
-_HEAVY = ("cvxpy", "matplotlib", "pandas", "skimage", "shapely", "dask")
+_HEAVY = ("cvxpy", "matplotlib", "pandas", "skimage", "shapely", "dask", "numba")
 
 
 def test_a_small_solve_loads_no_heavy_optional_package():
