@@ -19,9 +19,10 @@ Numbers are real numbers (Python's or numpy's, never booleans or strings) whose
 float value is finite. The distances they give must be usable by every method: the
 largest is at least :data:`MIN_SCALE` (costs are compared with an absolute tolerance
 of 1e-9, design.md section 1) or 0, and the cost of any route and its square are
-finite floats (a route costs at most ``2 (n + 1)`` times the largest distance; methods
-compare squared costs, and `best` failed on coordinates near 1e200). An instance whose distance matrix would not
-fit in the memory available is refused before it is allocated.
+finite floats (a route costs at most ``2 (n + 1)`` times the largest distance; the
+heuristics combine costs, and ``best`` failed on coordinates near 1e200). An instance
+whose distance matrix would not fit in the memory available is refused before it is
+allocated.
 """
 
 from __future__ import annotations
@@ -249,7 +250,7 @@ class Instance:
         """
         try:
             xy = np.asarray(points, dtype=float)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             raise InstanceError("Points must be numbers: an (m, 2) array of x, y.") from None
         if xy.ndim != 2 or xy.shape[1] != 2:
             raise InstanceError(f"Expected points of shape (m, 2), got shape {xy.shape}.")
@@ -302,7 +303,7 @@ class Instance:
             if not _hashable(v) or v not in label:
                 raise InstanceError(f"Node {v!r} is not in the graph.")
         coordinates = {
-            label[v]: tuple(data[pos]) for v, data in graph.nodes(data=True) if pos in data
+            label[v]: data[pos] for v, data in graph.nodes(data=True) if pos in data
         }
         edges = tuple(
             (label[u], label[v], data[weight]) if weight in data else (label[u], label[v])

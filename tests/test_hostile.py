@@ -265,6 +265,8 @@ def test_numpy_scalars_are_numbers_everywhere():
          "Duplicate name 'a'"),  # the start would move and a point vanish
         (lambda g: pc.Instance.from_points([[0, 0], [1, 0]], start=True), "must be a row number"),  # not a row
         (lambda g: pc.Instance.from_networkx([(0, 1)], 0, [1]), "Expected a networkx graph"),  # an edge list
+        (lambda g: pc.Instance.from_networkx(nx.Graph([(0, 1, {"weight": 1})]), 0, 1), "iterable of graph nodes"),
+        (lambda g: pc.Instance.from_points([[10**400, 0], [0, 0]]), "Points must be numbers"),  # no float holds it
         (lambda g: pc.Instance("s", ("a",), edges=(("s", "a", 10**400),)), "too large for a float"),  # no float
         (lambda g: pc.Instance("s", ("a",), edges=(("s", "a", np.bool_(True)),)), "non-numeric weight"),  # a flag
     ],
