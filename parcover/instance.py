@@ -497,7 +497,7 @@ def _check_coordinates(coordinates: Any) -> Mapping[str, Point] | None:
         _check_id(v, "coordinate id")
         pair = isinstance(xy, (Sequence, np.ndarray)) and not isinstance(xy, (str, bytes)) and len(xy) == 2
         if not (pair and all(is_number(c) for c in xy)):
-            raise InstanceError(f"Coordinates of {v!r} must be two numbers, got {_short(xy)}.")
+            raise InstanceError(f"Coordinates of {v!r} must be two numbers, got {short_repr(xy)}.")
         x, y = (_float(c, f"Coordinates of {v!r} have a", "coordinate") for c in xy)
         out[v] = (x, y)
     return MappingProxyType(out)
@@ -527,7 +527,7 @@ def _check_edges(
         else:
             w = edge[2]
             if not is_number(w):
-                raise InstanceError(f"Edge {number} [{u!r}, {v!r}] has a non-numeric weight {_short(w)}.")
+                raise InstanceError(f"Edge {number} [{u!r}, {v!r}] has a non-numeric weight {short_repr(w)}.")
             w = _float(w, f"Edge {number} [{u!r}, {v!r}] has a", "weight")
             if w < 0:
                 raise InstanceError(f"Edge {number} [{u!r}, {v!r}] has a negative weight {w}.")
@@ -557,10 +557,22 @@ def is_whole(x: Any) -> bool:
     return isinstance(x, numbers.Integral) and not isinstance(x, bool)
 
 
+def finite_float(x: Any) -> float | None:
+    """``float(x)`` for a real number ``x`` whose float is finite, else ``None``
+    (``10**400`` has no float; ``nan`` and ``inf`` are not finite)."""
+    if not is_number(x):
+        return None
+    try:
+        value = float(x)
+    except OverflowError:
+        return None
+    return value if math.isfinite(value) else None
+
+
 def check_whole(value: Any, name: str, least: int) -> int:
     """``value`` as an ``int`` when it is a whole number >= ``least``, else :class:`InputError`."""
     if not is_whole(value) or value < least:
-        raise InputError(f"{name} must be a whole number >= {least}, got {value!r}.")
+        raise InputError(f"{name} must be a whole number >= {least}, got {short_repr(value)}.")
     return int(value)
 
 
@@ -573,13 +585,13 @@ def _float(x: Any, subject: str, noun: str) -> float:
     try:
         value = float(x)
     except OverflowError:
-        raise InstanceError(f"{subject} {noun} too large for a float ({_short(x)}).") from None
+        raise InstanceError(f"{subject} {noun} too large for a float ({short_repr(x)}).") from None
     if not math.isfinite(value):
         raise InstanceError(f"{subject} non-finite {noun} {value}.")
     return value
 
 
-def _short(x: Any) -> str:
+def short_repr(x: Any) -> str:
     """``repr(x)``, cut to a readable length (a 400-digit integer is not)."""
     text = repr(x)
     return text if len(text) <= 40 else f"{text[:20]}...({len(text)} characters)"

@@ -9,13 +9,12 @@ verified :class:`~parcover.result.Result`.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from collections.abc import Callable
 from typing import Any, Protocol
 
 from parcover.errors import InputError
-from parcover.instance import Instance, is_number, is_whole
+from parcover.instance import Instance, finite_float, is_number, is_whole, short_repr
 from parcover.result import Objective, RoutesKind, Status
 
 __all__ = [
@@ -67,14 +66,15 @@ class Problem:
             raise InputError(f"Unknown route kind {self.routes!r}; expected 'paths' or 'tours'.")
         if self.robots is not None:
             if not is_whole(self.robots) or self.robots < 1:
-                raise InputError(f"The robot limit must be a whole number >= 1, got {self.robots!r}.")
+                raise InputError(f"The robot limit must be a whole number >= 1, got {short_repr(self.robots)}.")
             object.__setattr__(self, "robots", int(self.robots))
         if self.deadline is not None:
             if not is_number(self.deadline):
-                raise InputError(f"The deadline must be a number, got {self.deadline!r}.")
-            if not math.isfinite(self.deadline) or self.deadline < 0:
-                raise InputError(f"The deadline must be finite and >= 0, got {self.deadline!r}.")
-            object.__setattr__(self, "deadline", float(self.deadline))
+                raise InputError(f"The deadline must be a number, got {short_repr(self.deadline)}.")
+            value = finite_float(self.deadline)
+            if value is None or value < 0:
+                raise InputError(f"The deadline must be finite and >= 0, got {short_repr(self.deadline)}.")
+            object.__setattr__(self, "deadline", value)
         if self.robots is not None and self.deadline is not None:
             raise InputError("Give a robot limit or a deadline, not both.")
 

@@ -16,7 +16,7 @@ from typing import Any
 
 from parcover.bounds import lower_bound, robots_lower_bound
 from parcover.errors import InputError
-from parcover.instance import Instance, check_whole, is_number
+from parcover.instance import Instance, check_whole, finite_float, short_repr
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.result import Result, RoutesKind, Status, gap
 from parcover.verify import InvalidSolution, verify
@@ -104,17 +104,26 @@ def solve(
     unknown = sorted(set(options) - set(info.options))
     if unknown:
         raise InputError(f"Method {method!r} takes no option {unknown[0]!r}.")
-    if time_limit is not None and not (is_number(time_limit) and 0 < time_limit < float("inf")):
-        raise InputError(f"The time limit must be a positive number of seconds, got {time_limit!r}.")
+    seconds = None if time_limit is None else finite_float(time_limit)
+    if time_limit is not None and not (seconds is not None and seconds > 0):
+        raise InputError(f"The time limit must be a positive number of seconds, got {short_repr(time_limit)}.")
     seed = check_whole(seed, "seed", 0)
-    time_limit = None if time_limit is None else float(time_limit)
     started = time.perf_counter()
     limit = problem.effective_deadline(instance)
     if limit is not None and not meets_deadline(problem.least_makespan(instance), limit):
         solution = Solution(routes=[], status=Status.INFEASIBLE)
     else:
-        solution = info.function(instance, problem, time_limit=time_limit, seed=seed, **options)
+        solution = info.function(instance, _at_most_n_robots(instance, problem), time_limit=seconds, seed=seed,
+                                 **options)
     return build_result(instance, problem, method, solution, time.perf_counter() - started)
+
+
+def _at_most_n_robots(instance: Instance, problem: Problem) -> Problem:
+    """The question with the robot limit cut to ``n``: a robot more than KPOIs covers
+    nothing, and methods may lay out one route per robot (``robots=10**9``)."""
+    if problem.robots is None or problem.robots <= instance.n:
+        return problem
+    return Problem(problem.routes, instance.n, None)
 
 
 def build_result(

@@ -255,6 +255,8 @@ def test_numpy_scalars_are_numbers_everywhere():
         (lambda g: pc.solve(g, robots=2, time_limit="3"), "time limit must be a positive number"),  # text
         (lambda g: pc.solve(g, robots=2, time_limit=math.inf), "time limit must be a positive number"),  # no limit is None
         (lambda g: pc.solve(g, robots=True), "robot limit must be a whole number"),  # a bool is not a count
+        (lambda g: pc.solve(g, deadline=10**400), "deadline must be finite"),  # no float holds it
+        (lambda g: pc.solve(g, robots=2, time_limit=10**400), "time limit must be a positive number"),  # same
         (lambda g: pc.solve(g, method=["exact"]), "Unknown method"),  # a name, not a list
         (lambda g: pc.solve(GRID), "read a file with pc.load"),  # a path, not an instance
         (lambda g: pc.solve(5), "Expected an Instance"),  # not an instance at all
@@ -274,6 +276,15 @@ def test_numpy_scalars_are_numbers_everywhere():
 def test_bad_api_arguments_raise_input_error(fig1_grid, call, message):
     with pytest.raises(pc.InputError, match=message):
         call(fig1_grid)
+
+
+@pytest.mark.parametrize("method", ["best", "paper", "nn", "exact"])
+def test_more_robots_than_kpois_is_the_question_with_n_robots(fig1_grid, method):
+    # `best` laid out one route per robot: robots=10**9 never finished. A robot more than
+    # KPOIs covers nothing, so the answer is the one with n robots (checked by exact).
+    many = pc.solve(fig1_grid, robots=10**9, method=method)
+    assert many.robots_limit == 10**9
+    assert many.makespan == pc.solve(fig1_grid, robots=fig1_grid.n, method="exact").makespan
 
 
 def test_from_networkx_takes_a_generator_of_kpois():
