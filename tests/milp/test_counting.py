@@ -76,10 +76,10 @@ def test_a_family_that_is_not_downward_closed_is_solved_by_the_milp():
     assert setpart.min_makespan(D, 2, tours=False).objective == pytest.approx(2.0)
 
 
-def test_exact_uses_setpart_up_to_16_kpois_and_compact_above():
+def test_exact_uses_setpart_up_to_16_kpois_and_branchprice_above():
     small = parcover.generate.random_points(8, 3)
     assert parcover.solve(small, robots=2).info["model"] == "setpart"
     line = parcover.Instance.from_points([(i, 0) for i in range(18)])  # 17 KPOIs on a line
     result = parcover.solve(line, robots=2, time_limit=60)
-    assert result.info["model"] == "compact"
+    assert result.info["model"] == "branchprice"
     assert result.makespan == pytest.approx(17) and result.status is parcover.Status.OPTIMAL
