@@ -10,7 +10,7 @@ import argparse
 import os
 import shlex
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import NoReturn
 
@@ -81,13 +81,13 @@ def _solve(args: argparse.Namespace) -> int:
         for line in result.info.get("trace", []):
             print(line)
         print()
-    if args.plot and not result.routes:
-        raise InputError(f"No routes to draw: the answer is {result.status.value}.")
-    _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
     if args.plot:
+        if not result.routes:
+            raise InputError(f"No routes to draw: the answer is {result.status.value}.")
         from parcover.plot import plot_routes
 
-        plot_routes(instance, result, args.plot)
+        _draw(lambda: plot_routes(instance, result, args.plot), args.plot)
+    _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
     return 0
 
 
@@ -122,11 +122,11 @@ def _frontier(args: argparse.Namespace) -> int:
     result = frontier(
         instance, args.routes, args.method, time_limit=args.time_limit, seed=args.seed, progress=progress
     )
-    _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
     if args.plot:
         from parcover.plot import plot_frontier
 
-        plot_frontier(result, args.plot)
+        _draw(lambda: plot_frontier(result, args.plot), args.plot)
+    _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
     return 0
 
 
@@ -224,6 +224,14 @@ def _emit(text: str, json_text: str, out: str | None) -> None:
     print(text)
     if out:
         write_text_atomic(out, json_text + "\n")
+
+
+def _draw(plot: Callable[[], None], path: str) -> None:
+    """Run a drawing (before ``--out`` is written: a failed drawing leaves no result behind)."""
+    try:
+        plot()
+    except OSError as exc:
+        raise InputError(f"Cannot write {path}: {exc.strerror or exc}.") from None
 
 
 #: What ``--plot`` draws to (matplotlib picks the format from the suffix).

@@ -110,6 +110,21 @@ def test_a_bad_plot_path_leaves_no_result_behind(capsys, tmp_path):
     assert not out.exists()
 
 
+@pytest.mark.parametrize(("command", "drawing"), [("solve", "plot_routes"), ("frontier", "plot_frontier")])
+def test_a_failing_drawing_is_one_line_and_leaves_no_result(capsys, tmp_path, monkeypatch, command, drawing):
+    # the drawing comes before --out: a refused write (here: permission) leaves nothing half done
+    import parcover.plot
+
+    def denied(*args, **kwargs):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(parcover.plot, drawing, denied)
+    out = tmp_path / "r.json"
+    argv = [command, GRID, "--method", "trivial", "--out", str(out), "--plot", str(tmp_path / "r.png")]
+    _refused(capsys, argv, "Permission denied")
+    assert not out.exists()
+
+
 def test_out_is_written_atomically(capsys, tmp_path, monkeypatch):
     # a failure while writing (here: os.replace, as on a full disk) leaves the old file whole
     out = tmp_path / "r.json"
