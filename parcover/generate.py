@@ -17,7 +17,7 @@ from typing import Literal
 import numpy as np
 
 from parcover.errors import InputError
-from parcover.instance import Instance, check_whole
+from parcover.instance import Instance, check_whole, finite_float
 
 __all__ = ["grid", "star", "random_points", "random_graph"]
 
@@ -58,7 +58,7 @@ def star(n: int = 6, radius: float = 1.0) -> Instance:
     paper's picture: 6 paths, 3 tours).
     """
     check_whole(n, "n", 1)
-    if not (math.isfinite(radius) and radius > 0):
+    if finite_float(radius) is None or radius <= 0:
         raise InputError(f"radius must be a positive number, got {radius!r}.")
     angles = 2 * np.pi * np.arange(n) / n
     points = np.vstack([[0.0, 0.0], radius * np.column_stack([np.cos(angles), np.sin(angles)])])
@@ -89,7 +89,7 @@ def random_points(
         raise InputError(f"Unknown layout {layout!r}; expected 'uniform' or 'clustered'.")
     if start not in ("random", "center", "corner"):
         raise InputError(f"Unknown start placement {start!r}; expected random, center or corner.")
-    if not (math.isfinite(size) and size > 0):
+    if finite_float(size) is None or size <= 0:
         raise InputError(f"size must be a positive number, got {size!r}.")
     rng = np.random.default_rng(seed)
     if layout == "uniform":
@@ -130,7 +130,9 @@ def random_graph(
     check_whole(seed, "seed", 0)
     virtual = 2 * n if virtual is None else virtual
     check_whole(virtual, "virtual", 0)
-    if not (math.isfinite(detour) and detour >= 0):
+    if finite_float(size) is None or size <= 0:
+        raise InputError(f"size must be a positive number, got {size!r}.")
+    if finite_float(detour) is None or detour < 0:
         raise InputError(f"detour must be a number >= 0, got {detour!r}.")
     rng = np.random.default_rng(seed)
     total = n + virtual + 1

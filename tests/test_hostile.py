@@ -278,6 +278,8 @@ def test_numpy_scalars_are_numbers_everywhere():
         (lambda g: pc.load(5), "Expected a file path"),  # not a path
         (lambda g: pc.solve(g, robots=2, export_model="no/such/m.mps"), "no folder no/such"),  # said "None"
         (lambda g: pc.generate.random_points(3, seed=-1), "seed must be a whole number >= 0"),  # numpy refuses it
+        (lambda g: pc.generate.star(3, radius="1"), "radius must be a positive number"),  # text, not a number
+        (lambda g: pc.generate.random_graph(3, size=-1), "size must be a positive number"),  # was not checked
         (lambda g: pc.Instance.from_points([[0, 0], [1, 0], [0, 1]], names=["a", "a", "b"]),
          "Duplicate name 'a'"),  # the start would move and a point vanish
         (lambda g: pc.Instance.from_points([[0, 0], [1, 0]], start=True), "must be a row number"),  # not a row
