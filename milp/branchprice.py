@@ -45,9 +45,10 @@ Poggi and Uchoa 2017): the memory of a cut is its triple and the KPOIs the curre
 solution's routes visit between two of its KPOIs. The pricing carries one parity bit per
 cut; the cut duals :math:`\sigma \le 0` enter Farley's bound as
 :math:`(\sum_i \pi_i + \sum_S \sigma_S) / \max(M, 1)`. At most :data:`MAX_CUTS` cuts in
-all and :data:`CUTS_PER_KPOI` per KPOI: each parity bit splits the labels a dominance test
-can compare (measured: unlimited cuts made a 12-KPOI, 2-path search 200x slower, while
-the fewest-robots cells at n = 50 closed at the root).
+all and :data:`CUTS_PER_KPOI` per KPOI, and only for LP solutions of at least
+:data:`CUT_MIN_ROUTES` routes: each parity bit splits the labels a dominance test can
+compare (measured: unlimited cuts made a 12-KPOI, 2-path search 200x slower, while the
+fewest-robots cells at n = 50 closed at the root).
 
 Branching
 ---------
@@ -116,6 +117,11 @@ ROOT_IP_SHARE, ROOT_IP_CAP = 0.1, 5.0
 MAX_CUTS, CUTS_PER_ROUND, CUT_VIOLATION = 64, 8, 0.05
 #: A KPOI belongs to at most this many cuts' triples.
 CUTS_PER_KPOI = 4
+#: Cuts only for LP solutions with at least this many routes: with few long routes the
+#: parity bits cost the labelling more than the cuts gain (measured on the n = 30-50
+#: grid: k = 3-5 makespan cells 2-10x slower with cuts, tours within 1.2 x 2 c_max
+#: (4 routes) unproven in 10 s; fewest robots with 6-12 routes closed at the root).
+CUT_MIN_ROUTES = 6
 #: A lambda or an arc flow within this of an integer counts as integral.
 INTEGRAL = 1e-6
 
@@ -361,7 +367,7 @@ class _Search:
         """Add the subset-row cuts (5) most violated by the master's solution; whether
         any was added."""
         room = MAX_CUTS - len(self.cuts)
-        if room <= 0:
+        if room <= 0 or outcome.value < CUT_MIN_ROUTES:
             return False
         support = np.flatnonzero(outcome.x > INTEGRAL)
         counts = self._coverage([outcome.columns[i] for i in support]).T.toarray()
