@@ -21,6 +21,7 @@ from parcover.frontier import frontier
 from parcover.result import Result
 from parcover.instance import Instance
 from parcover.io import FileFormatError, read_instance, read_json, write_instance, write_text_atomic
+from parcover.question import load as load_question
 from parcover.solve import available_methods, solve
 from parcover.verify import InvalidSolution, verify
 
@@ -63,13 +64,17 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _solve(args: argparse.Namespace) -> int:
     _check_outputs(args, out=args.out, plot=args.plot, model=args.export_model)
-    instance = read_instance(args.instance, metric=args.distance)
+    instance, question = load_question(args.instance, metric=args.distance)
+    if question is not None and args.robots is None and args.deadline is None and args.routes in (None, question.routes):
+        args.routes, args.robots, args.deadline = question.routes, question.robots, question.deadline
+        print(f"question from the file ({question.claim}): {question.text}; method {args.method}",
+              file=sys.stderr if args.json else sys.stdout)
     options: dict[str, object] = {"trace": True} if args.trace else {}
     if args.export_model:
         options["export_model"] = args.export_model
     result = solve(
         instance,
-        routes=args.routes,
+        routes=args.routes or "paths",
         robots=args.robots,
         deadline=args.deadline,
         method=args.method,
@@ -158,21 +163,41 @@ def _report(args: argparse.Namespace) -> int:
 def _props(args: argparse.Namespace) -> int:
     from parcover.props import props, render_table
 
+    if args.check:
+        return _props_check(args)
     command = "parcover props" + "".join(
         f" {flag}" for flag, on in (
             (f"--seed {args.seed}", args.seed != 0), ("--quick", args.quick),
             (f"--time-limit {args.time_limit:g}", args.time_limit != 10.0),
-            (f"--exact {args.exact}", args.exact != "exact"),
+            (f"--exact {args.exact}", args.exact not in (None, "exact")),
             (f"--out-dir {args.out_dir}", bool(args.out_dir)), (f"--report {args.report}", bool(args.report)),
         ) if on
     )
     verdicts = props(
-        seed=args.seed, quick=args.quick, time_limit=args.time_limit, exact=args.exact,
+        seed=args.seed, quick=args.quick, time_limit=args.time_limit, exact=args.exact or "exact",
         greedy=args.greedy.split(",") if args.greedy else None,
         out_dir=args.out_dir, report_path=args.report, command=command,
     )
     print(render_table(verdicts))
     return 0
+
+
+def _props_check(args: argparse.Namespace) -> int:
+    """Ask each file's question again; 0 when every file still refutes its claim, else 1."""
+    from parcover.question import check, render_check
+
+    questions = []
+    for path in args.check:
+        instance, question = load_question(path)
+        if question is None:
+            raise FileFormatError(f"{path}: has no question block to check (see instances/README.md).")
+        questions.append((path, instance, question))
+    refuted = True
+    for path, instance, question in questions:
+        outcome = check(question, instance, exact=args.exact, time_limit=args.time_limit, seed=args.seed)
+        print(render_check(path, outcome))
+        refuted = refuted and outcome.refuted
+    return 0 if refuted else 1
 
 
 def _whole(text: str, flag: str) -> int:
@@ -310,7 +335,8 @@ def _build_parser() -> argparse.ArgumentParser:
     p = commands.add_parser(
         "solve", help="answer one coverage question",
         description="Fewest robots within a deadline (default: the least possible makespan), "
-        "or least makespan with at most K robots.",
+        "or least makespan with at most K robots. A file with a question block (a counterexample, "
+        "instances/README.md) asks its own routes and limit unless --routes, --robots or --deadline is given.",
         epilog=_methods_epilog(), formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     _add_common(p)
@@ -327,7 +353,7 @@ def _build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the result as one JSON object")
     p.add_argument("--out", metavar="FILE", help="also write the result JSON to FILE")
     p.add_argument("--plot", metavar="FILE.png", help="draw the routes (over the map image when there is one)")
-    p.set_defaults(run=_solve)
+    p.set_defaults(run=_solve, routes=None)  # None: the file's question's routes, else paths
 
     p = commands.add_parser("verify", help="check a solution file against an instance",
                             description="Exit 0 if valid, 1 with a reason per violation, 2 on unreadable input.")
@@ -381,10 +407,14 @@ def _build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quick", action="store_true", help="small families only (seconds)")
     p.add_argument("--time-limit", type=_positive_float, default=10.0, metavar="SECONDS",
                    help="per exact solve (default: 10); unproven instances count as undecided")
-    p.add_argument("--exact", default="exact", help="exact method giving the optima (default: exact)")
+    p.add_argument("--exact", help="exact method giving the optima (default: exact; with --check setpart "
+                   "up to 16 KPOIs, exact above)")
     p.add_argument("--greedy", help="comma-separated methods to judge (default: every paper* method)")
     p.add_argument("--out-dir", metavar="DIR", help="save shrunk counterexamples here (e.g. instances/counterexamples)")
     p.add_argument("--report", metavar="FILE.md", help="write the verdicts with pictures (e.g. reports/verdicts.md)")
+    p.add_argument("--check", nargs="+", metavar="FILE",
+                   help="instead, ask each counterexample file's question again with its greedy and an exact method; "
+                   "exit 0 when every file still refutes its claim, 1 when one does not")
     p.set_defaults(run=_props)
 
     p = commands.add_parser("generate", help="write a generated instance file")

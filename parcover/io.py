@@ -26,6 +26,7 @@ from typing import Any
 
 from parcover.errors import InputError
 from parcover.instance import Instance, InstanceError, MapInfo, Metric, _first_duplicate
+from parcover.question import Question
 
 __all__ = [
     "FileFormatError",
@@ -150,7 +151,8 @@ def instance_from_dict(
 ) -> Instance:
     """An :class:`Instance` from the JSON object of design.md section 2.
 
-    Unknown keys are ignored (files may carry extensions). ``base_dir`` is where a
+    Unknown keys are ignored (files may carry extensions); an optional ``question``
+    block is validated (:class:`parcover.question.Question`). ``base_dir`` is where a
     relative ``map.image`` is resolved from, for drawings.
     """
     for key in _REQUIRED:
@@ -164,7 +166,7 @@ def instance_from_dict(
     name = data.get("name", default_name)
     if not isinstance(name, str):
         raise InstanceError(f"name must be a string, got {name!r}.")
-    return Instance(
+    instance = Instance(
         start=data["start"],
         kpois=tuple(data["kpois"]),
         coordinates=data.get("coordinates"),
@@ -173,6 +175,9 @@ def instance_from_dict(
         map=_map_from_dict(data.get("map"), base_dir),
         metric=metric or data.get("metric", "euclidean"),
     )
+    if data.get("question") is not None:
+        Question.from_dict(data["question"], instance)  # refuse a bad block now (parcover.question)
+    return instance
 
 
 def instance_to_dict(instance: Instance) -> dict[str, Any]:
@@ -196,13 +201,17 @@ def instance_to_dict(instance: Instance) -> dict[str, Any]:
     return data
 
 
-def write_instance(instance: Instance, path: str | os.PathLike[str] | None = None) -> str:
+def write_instance(
+    instance: Instance, path: str | os.PathLike[str] | None = None, *, question: Question | None = None
+) -> str:
     """Write the instance as JSON to ``path`` (or just return the text).
 
     A map image is stored relative to the file's folder, as :func:`read_instance`
-    resolves it.
+    resolves it. ``question`` adds the file's ``"question"`` block.
     """
     data = instance_to_dict(instance)
+    if question is not None:
+        data["question"] = question.to_dict()
     if path is not None and "map" in data and os.path.isabs(data["map"]["image"]):
         data["map"]["image"] = os.path.relpath(data["map"]["image"], Path(path).resolve().parent)
     text = _readable_json(data)
@@ -307,10 +316,10 @@ def _tsplib_node_ids(text: str) -> list[str]:
 
 
 def _readable_json(data: dict[str, Any]) -> str:
-    """JSON with one top-level key per line and one coordinate or edge per line."""
+    """JSON with one top-level key per line and one coordinate, edge or question entry per line."""
     parts = []
     for key, value in data.items():
-        if key == "coordinates":
+        if key in ("coordinates", "question"):
             body = ",\n".join(f"    {json.dumps(k)}: {json.dumps(v, allow_nan=False)}" for k, v in value.items())
             text = "{\n" + body + "\n  }"
         elif key == "edges":

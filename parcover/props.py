@@ -44,6 +44,7 @@ from typing import Literal
 
 from parcover import generate
 from parcover.instance import Instance
+from parcover.question import Question
 from parcover.result import Result, Status
 
 __all__ = [
@@ -111,6 +112,11 @@ class Claim:
     shrinkable
         Whether a counterexample stays meaningful on a smaller instance (not for
         Fig. 1 and Fig. 3, whose claimed numbers belong to one picture).
+    greedy_vs_optimum
+        Whether the claim is that the greedy ``method`` is optimal, so that a
+        counterexample carries the question that shows it (:mod:`parcover.question`).
+    deadline_factor
+        The claim's deadline as a multiple of ``c_max``, when it has one.
     """
 
     id: str
@@ -119,6 +125,8 @@ class Claim:
     instances: tuple[Instance, ...]
     method: str | None = None
     shrinkable: bool = True
+    greedy_vs_optimum: bool = False
+    deadline_factor: float | None = None
 
 
 @dataclass(frozen=True)
@@ -143,6 +151,9 @@ class Verdict:
         Where the counterexample and its drawing were written, if they were.
     notes
         Anything the reader must know (undecided instances, errors, skipped drawings).
+    question
+        The question the counterexample answers worse with the greedy than the
+        optimum does (greedy-versus-optimum claims only); saved in its file.
     """
 
     claim: str
@@ -160,6 +171,7 @@ class Verdict:
     file: str | None = None
     picture: str | None = None
     notes: tuple[str, ...] = ()
+    question: Question | None = None
 
     @property
     def is_refuted(self) -> bool:
@@ -372,15 +384,15 @@ def claims(
             Claim(f"fig3-tours-{m}", f"Fig. 3: ceil(|V|/2) tours on a star (exact fewest at the makespan {m}'s "
                   "Algorithm 2 reaches by connecting shortest paths).", fig3_tours(m), stars, m, shrinkable=False),
             Claim(f"alg1-{m}", f"Alg. 1 ({m}): the fewest robots for paths at c_max.",
-                  greedy_optimal(m, "paths", None), general, m),
+                  greedy_optimal(m, "paths", None), general, m, greedy_vs_optimum=True, deadline_factor=1.0),
             Claim(f"alg1-1-x1.25-{m}", f"Alg. 1-1 ({m}): the fewest robots for paths at c_p = 1.25 c_max.",
-                  greedy_optimal(m, "paths", 1.25), general, m),
+                  greedy_optimal(m, "paths", 1.25), general, m, greedy_vs_optimum=True, deadline_factor=1.25),
             Claim(f"alg1-1-x1.5-{m}", f"Alg. 1-1 ({m}): the fewest robots for paths at c_p = 1.5 c_max.",
-                  greedy_optimal(m, "paths", 1.5), general, m),
+                  greedy_optimal(m, "paths", 1.5), general, m, greedy_vs_optimum=True, deadline_factor=1.5),
             Claim(f"alg2-robots-{m}", f"Alg. 2 ({m}): the fewest tours for the makespan it reaches.",
-                  alg2(m, "robots"), general, m),
+                  alg2(m, "robots"), general, m, greedy_vs_optimum=True),
             Claim(f"alg2-makespan-{m}", f"Alg. 2 ({m}): the least tour makespan for the number of tours it uses.",
-                  alg2(m, "makespan"), general, m),
+                  alg2(m, "makespan"), general, m, greedy_vs_optimum=True),
         ]
     return out
 
@@ -523,7 +535,7 @@ def props(
         verdict, _ = evaluate(claim, progress)
         if verdict.counterexample is not None and claim.shrinkable:
             verdict = _shrunk(claim, verdict, progress)
-        verdicts.append(verdict)
+        verdicts.append(_with_question(claim, verdict))
     if out_dir is not None:
         verdicts = [_save(v, Path(out_dir)) for v in verdicts]
     if report_path is not None:
@@ -546,6 +558,15 @@ def _shrunk(claim: Claim, verdict: Verdict, progress: Progress | None) -> Verdic
     if progress is not None:
         progress(f"{claim.id}: shrunk {verdict.found_on} (n={verdict.counterexample.n}) to n={small.n}")
     return dataclasses.replace(verdict, counterexample=small, numbers=outcome.numbers, results=outcome.results)
+
+
+def _with_question(claim: Claim, verdict: Verdict) -> Verdict:
+    """The verdict with the question its counterexample answers (greedy-versus-optimum claims)."""
+    if not (claim.greedy_vs_optimum and verdict.counterexample is not None and len(verdict.results) == 2):
+        return verdict
+    greedy, optimum = verdict.results
+    question = Question.from_results(claim.id, greedy, optimum, deadline_factor=claim.deadline_factor)
+    return dataclasses.replace(verdict, question=question)
 
 
 # -- shrinking ----------------------------------------------------------------------
@@ -744,7 +765,7 @@ def _save(verdict: Verdict, out_dir: Path) -> Verdict:
 
     out_dir.mkdir(parents=True, exist_ok=True)
     path = out_dir / f"{_file_stem(verdict)}.json"
-    write_instance(verdict.counterexample, path)
+    write_instance(verdict.counterexample, path, question=verdict.question)
     return dataclasses.replace(verdict, file=str(path))
 
 
@@ -789,6 +810,8 @@ def render_report(verdicts: Sequence[Verdict], header: str = "", base: Path | No
                       f"- Numbers: {v.numbers}"]
             if v.file:
                 parts.append(f"- File: `{_relative(v.file, base)}`")
+            if v.file and v.question is not None:
+                parts.append(f"- Check it again: `parcover props --check {v.file}`")
             parts += [f"- Routes of {r.method}: {_routes_text(r)}" for r in v.results]
             if v.picture:
                 parts += ["", f"![{v.claim}]({_relative(v.picture, base)})", ""]
