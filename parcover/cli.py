@@ -65,7 +65,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _solve(args: argparse.Namespace) -> int:
     _check_outputs(args, out=args.out, plot=args.plot, model=args.export_model)
     instance, question = load_question(args.instance, metric=args.distance)
-    if question is not None and args.robots is None and args.deadline is None and args.routes in (None, question.routes):
+    if question is not None and args.routes is None and args.robots is None and args.deadline is None:
         args.routes, args.robots, args.deadline = question.routes, question.robots, question.deadline
         print(f"question from the file ({question.claim}): {question.text}; method {args.method}",
               file=sys.stderr if args.json else sys.stdout)

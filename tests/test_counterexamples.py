@@ -1,4 +1,5 @@
-"""Every committed counterexample shows, through solve(), a greedy worse than the optimum.
+"""Every committed counterexample shows, through solve() and through its question block
+(`parcover props --check`), a greedy worse than the optimum.
 
 File names are ``<claim>-<method>.json`` as written by ``parcover props``; the claim
 says which question to ask (paper, Section V).
@@ -37,3 +38,15 @@ def test_counterexample_refutes_its_claim(path):
     greedy = pc.solve(instance, deadline=deadline, method=method)
     exact = pc.solve(instance, deadline=deadline, method="setpart")
     assert exact.status is pc.Status.OPTIMAL and exact.robots < greedy.robots
+
+
+@pytest.mark.parametrize("path", FILES, ids=[p.stem for p in FILES])
+def test_props_check_reproduces_the_refutation(path, capsys):
+    from parcover.cli import main
+    from parcover.question import load
+
+    _, question = load(path)
+    assert question is not None and question.claim == path.stem  # the file answers its own claim's question
+    code = main(["props", "--check", str(path)])
+    out = capsys.readouterr().out
+    assert code == 0 and "verdict: refuted" in out, out

@@ -22,6 +22,7 @@ from hypothesis import HealthCheck, assume, given, settings
 import parcover
 from parcover import Instance, MethodInfo, Solution, Status, generate, props as P
 from parcover.problem import meets_deadline
+from parcover.question import load as load_question
 from parcover.solve import METHODS, register_method
 from strategies import euclidean_instances
 
@@ -294,6 +295,10 @@ def test_quick_run_writes_refuting_files_and_report(tmp_path):
             assert json.loads(Path(v.file).read_text())["kpois"]  # a readable instance file
             assert saved.n <= min(i.n for i in P.families(quick=True)["general"] if i.name == v.found_on)
             assert P.check_instance(claims[v.claim], saved).status == "refuted"
+            if v.claim.startswith("alg"):  # greedy-versus-optimum claims carry their question
+                _, question = load_question(v.file)
+                assert question is not None and question.claim == v.claim and question.method == "paper"
+                assert f"parcover props --check {v.file}" in report
             assert (v.picture and Path(v.picture).exists()) or any("drawing" in n for n in v.notes)
     again = P.props(quick=True, greedy=["paper"])  # same seed, same verdicts and counterexamples
     assert [(v.claim, v.text, v.numbers) for v in again] == [(v.claim, v.text, v.numbers) for v in verdicts]
