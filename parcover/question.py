@@ -62,7 +62,7 @@ def reading_of(method: str) -> str | None:
 
 
 def exact_method_for(instance: Instance) -> str:
-    """``setpart`` up to 16 KPOIs, else ``exact`` (the compact model)."""
+    """``setpart`` up to 16 KPOIs, else ``exact``."""
     return "setpart" if instance.n <= _SETPART_MAX_N else "exact"
 
 
@@ -266,8 +266,7 @@ def check(question: Question, instance: Instance, *, exact: str | None = None,
     outcome = compare_optimum(reference, "ge", value, f"{greedy.method} {question.objective} {value:.6g}")
     reason = {"refuted": f"{reference.method} is better than {greedy.method}",
               "holds": f"{greedy.method}'s {question.objective} is optimal here",
-              "undecided": f"{reference.method} could not decide within its limits"}.get(outcome.status,
-                                                                                         outcome.numbers)
+              "undecided": f"{reference.method} could not decide within its limits"}[outcome.status]
     return Check(question, greedy, reference, outcome.status == "refuted", reason)
 
 
