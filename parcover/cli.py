@@ -102,7 +102,7 @@ def _verify(args: argparse.Namespace) -> int:
     if not (isinstance(solution, dict) and "routes" in solution) and not isinstance(solution, list):
         raise FileFormatError(f"{args.solution}: not a solution: expected a JSON object with 'routes'.")
     try:
-        verdict = verify(instance, solution)
+        verdict = verify(instance, solution, certify=args.certify, time_limit=args.time_limit)
     except InvalidSolution as exc:
         for problem in exc.problems:
             print(f"invalid: {problem}")
@@ -111,12 +111,20 @@ def _verify(args: argparse.Namespace) -> int:
         f"{verdict.robots} robot{'s' if verdict.robots != 1 else ''}, makespan {verdict.makespan:.10g}"
         f" ({verdict.routes_kind})"
     )
-    if not verdict.feasible:
+    if not verdict.valid:
         for problem in verdict.violations():
             print(f"invalid: {problem}")
         print(f"routes are well formed: {summary}")
         return 1
     print(f"valid: {summary}")
+    certificate = verdict.certificate
+    if certificate is None:
+        return 0
+    if certificate.outcome == "undecided":
+        for reason in certificate.reasons:
+            print(f"undecided: {reason}")
+        return 3
+    print(f"{certificate.outcome}" + (f" by {certificate.method}" if certificate.method else ""))
     return 0
 
 
@@ -355,10 +363,19 @@ def _build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="FILE.png", help="draw the routes (over the map image when there is one)")
     p.set_defaults(run=_solve, routes=None)  # None: the file's question's routes, else paths
 
-    p = commands.add_parser("verify", help="check a solution file against an instance",
-                            description="Exit 0 if valid, 1 with a reason per violation, 2 on unreadable input.")
+    p = commands.add_parser(
+        "verify", help="check a solution file against an instance",
+        description="Recompute every route cost and every claim of the file (route_costs, makespan, "
+                    "robots, objective, status, bound, gap). Exit 0 if valid, 1 with a reason per "
+                    "violation or false claim, 2 on unreadable input; with --certify, 3 when the "
+                    "independent exact method could not decide within --time-limit.")
     _add_common(p, routes=False)
     p.add_argument("solution", help="solution JSON (a result of 'solve --json', or an object with 'routes')")
+    p.add_argument("--certify", action="store_true",
+                   help="also re-prove an 'optimal'/'infeasible' status and the bound with an exact "
+                        "method other than the file's")
+    p.add_argument("--time-limit", type=float, default=60.0, metavar="SECONDS",
+                   help="for --certify (default 60)")
     p.set_defaults(run=_verify)
 
     p = commands.add_parser("frontier", help="the robots-versus-makespan trade-off",

@@ -3,7 +3,12 @@
 It trusts nothing in a solution but its ``routes`` (and ``deadline`` /
 ``robots_limit`` when present, which it checks). Broken structure raises
 :class:`InvalidSolution` listing every problem; a missed deadline or robot limit is
-reported as a quantity on the :class:`Verdict` (by how much), PyVRP style.
+reported as a quantity on the :class:`Verdict` (by how much), PyVRP style. Every claim a
+solution file makes (``route_costs``, ``makespan``, ``robots``, ``objective``,
+``status``, ``bound``, ``gap``) is compared with what was recomputed, and each false one
+is a violation too (``Verdict.false_claims``). Claimed numbers must match to
+:data:`CLAIM_REL` relative (plus :data:`CLAIM_ABS`): result files hold full-precision
+floats, so only round-off is forgiven.
 """
 
 from __future__ import annotations
@@ -14,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from parcover.certify import Certificate
 from parcover.instance import Instance
 from parcover.problem import meets_deadline
 from parcover.result import Result, RoutesKind
@@ -21,6 +27,10 @@ from parcover.result import Result, RoutesKind
 __all__ = ["verify", "Verdict", "InvalidSolution", "route_costs"]
 
 _MAX_LISTED = 10
+#: A claimed number ``c`` matches a recomputed ``x`` when ``|c - x| <= CLAIM_REL * max(1, |x|)
+#: + CLAIM_ABS``.
+CLAIM_REL, CLAIM_ABS = 1e-7, 1e-9
+_STATUSES = ("optimal", "feasible", "infeasible", "unknown")
 
 
 class InvalidSolution(ValueError):
@@ -55,15 +65,26 @@ class Verdict:
     deadline_excess: float
     late_routes: list[int]
     robots_excess: int
+    false_claims: tuple[str, ...] = ()
+    certificate: Certificate | None = None
 
     @property
     def feasible(self) -> bool:
         """Valid structure and every given constraint met."""
         return not self.late_routes and self.robots_excess == 0
 
+    @property
+    def valid(self) -> bool:
+        """Feasible, every claim of the solution file true, and none refuted by
+        :func:`parcover.certify.certify` (when it ran)."""
+        refuted = self.certificate is not None and self.certificate.outcome == "refuted"
+        return self.feasible and not self.false_claims and not refuted
+
     def violations(self) -> list[str]:
-        """One sentence per constraint violation (empty when feasible)."""
-        out = []
+        """One sentence per constraint violation and per false claim (empty when valid)."""
+        out = list(self.false_claims)
+        if self.certificate is not None and self.certificate.outcome == "refuted":
+            out += self.certificate.reasons
         if self.late_routes:
             routes = ", ".join(map(str, self.late_routes[:_MAX_LISTED]))
             out.append(
@@ -84,6 +105,8 @@ def verify(
     routes_kind: RoutesKind | None = None,
     deadline: float | None = None,
     robots_limit: int | None = None,
+    certify: bool = False,
+    time_limit: float = 60.0,
 ) -> Verdict:
     """Check a solution against an instance and recompute its costs.
 
@@ -98,6 +121,10 @@ def verify(
         inferred (tours when every route returns to the start).
     deadline, robots_limit
         Constraints to check; default to the solution's own fields.
+    certify
+        Also re-prove the file's ``optimal``/``infeasible`` status and its ``bound`` with
+        an independent exact method within ``time_limit`` seconds
+        (:func:`parcover.certify.certify`; the outcome is ``Verdict.certificate``).
 
     Returns
     -------
@@ -126,6 +153,12 @@ def verify(
     costs = route_costs(instance, indices, tours=kind == "tours")
     makespan = max(costs)
     late = [] if deadline is None else [r + 1 for r, c in enumerate(costs) if not meets_deadline(c, deadline)]
+    claims = false_claims(fields, costs, len(routes)) if isinstance(solution, Mapping) else []
+    certificate = None
+    if certify and isinstance(solution, Mapping) and not claims:
+        from parcover.certify import certify as recheck  # certify asks solve, which verifies
+
+        certificate = recheck(instance, fields, time_limit=time_limit)
     return Verdict(
         routes_kind=kind,
         robots=len(routes),
@@ -137,7 +170,89 @@ def verify(
         deadline_excess=max(0.0, makespan - deadline) if late else 0.0,
         late_routes=late,
         robots_excess=max(0, len(routes) - robots_limit) if robots_limit is not None else 0,
+        false_claims=tuple(claims),
+        certificate=certificate,
     )
+
+
+def false_claims(fields: Mapping[str, Any], costs: list[float], robots: int) -> list[str]:
+    """One sentence per claim of a solution file that the recomputed ``costs`` refute.
+
+    Checked when present: ``route_costs`` (each), ``makespan``, ``robots``, ``objective``
+    (``makespan`` needs a ``robots_limit``, ``robots`` a ``deadline``), ``status``
+    (``infeasible``/``unknown`` only without routes, ``optimal`` only with a bound equal
+    to the value), ``bound`` (at most the value) and ``gap`` (``(value - bound) / value``,
+    0 when the value is at most the bound).
+    """
+    out: list[str] = []
+    makespan = max(costs)
+    claimed = fields.get("route_costs")
+    if claimed is not None:
+        if not _numbers(claimed) or len(claimed) != len(costs):
+            out.append(f"route_costs {_short(claimed)} are not {len(costs)} numbers")
+        else:
+            wrong = [r + 1 for r, (c, x) in enumerate(zip(claimed, costs)) if not _matches(c, x)]
+            if wrong:
+                r = wrong[0]
+                out.append(f"route_costs are false for route(s) {', '.join(map(str, wrong[:_MAX_LISTED]))}: "
+                           f"route {r} claims {claimed[r - 1]:.10g}, costs {costs[r - 1]:.10g}")
+    for key, true in (("makespan", makespan), ("robots", robots)):
+        value = fields.get(key)
+        if value is not None and (not _numbers([value]) or not _matches(value, true)):
+            out.append(f"{key} claims {_short(value)}, recomputed {true:.10g}")
+    objective = fields.get("objective")
+    value = None
+    if objective is not None:
+        if objective == "makespan":
+            value = makespan
+            if fields.get("robots_limit") is None:
+                out.append("objective 'makespan' without a robots_limit")
+        elif objective == "robots":
+            value = float(robots)
+            if fields.get("deadline") is None:
+                out.append("objective 'robots' without a deadline")
+        else:
+            out.append(f"objective {_short(objective)} is neither 'makespan' nor 'robots'")
+    status = fields.get("status")
+    if status is not None and status not in _STATUSES:
+        out.append(f"status {_short(status)} is not one of {', '.join(_STATUSES)}")
+    if status in ("infeasible", "unknown"):
+        out.append(f"status '{status}' with routes")
+    bound, gap = fields.get("bound"), fields.get("gap")
+    if bound is not None and not _numbers([bound]):
+        out.append(f"bound {_short(bound)} is not a number")
+        bound = None
+    if bound is not None and value is not None:
+        if bound > value and not _matches(bound, value):
+            out.append(f"bound {bound:.10g} is above the value {value:.10g}")
+        if status == "optimal" and not _matches(bound, value):
+            out.append(f"status 'optimal' with bound {bound:.10g} below the value {value:.10g}")
+    if status == "optimal" and bound is None:
+        out.append("status 'optimal' without a bound")
+    if gap is not None:
+        if not _numbers([gap]):
+            out.append(f"gap {_short(gap)} is not a number")
+        elif bound is None:
+            out.append(f"gap {gap:g} without a bound")
+        elif value is not None:
+            true_gap = 0.0 if value <= bound else (value - bound) / value
+            if abs(gap - true_gap) > CLAIM_REL + CLAIM_ABS:
+                out.append(f"gap claims {gap:.10g}, (value - bound) / value is {true_gap:.10g}")
+    return out
+
+
+def _numbers(values: Any) -> bool:
+    return isinstance(values, Sequence) and not isinstance(values, str) and all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) for v in values)
+
+
+def _matches(claimed: float, true: float) -> bool:
+    return abs(claimed - true) <= CLAIM_REL * max(1.0, abs(true)) + CLAIM_ABS
+
+
+def _short(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
 
 
 def route_costs(instance: Instance, routes: Sequence[Sequence[int]], *, tours: bool) -> list[float]:

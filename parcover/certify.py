@@ -1,0 +1,96 @@
+"""Re-proving a solution file's ``optimal``, ``infeasible`` and ``bound`` claims.
+
+``parcover verify --certify`` and ``pc.verify(..., certify=True)`` ask the file's own
+question again with an exact method other than the one the file names (design.md
+section 3), so that a claim is never checked by the code that made it:
+
+- ``setpart`` when the instance has at most :data:`milp.setpart.MAX_KPOIS` KPOIs and the
+  file's method is neither ``setpart`` nor ``exact`` (which uses ``setpart`` there);
+- else ``branchprice``, or ``compact`` when the file's method is (or, through
+  ``exact``, runs) ``branchprice``.
+
+Outcomes: ``certified`` (every such claim agrees with the proven answer), ``refuted``
+(one contradicts a proven optimum, or a claimed bound is above a solution the certifier
+found), ``undecided`` (the certifier did not prove within the time limit, and nothing it
+found contradicts the file).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from parcover.instance import Instance
+from parcover.result import Status
+
+__all__ = ["Certificate", "certify", "certifier_for"]
+
+
+@dataclass(frozen=True)
+class Certificate:
+    """What the independent exact method said about the file's claims."""
+
+    outcome: str  # "certified", "refuted", "undecided" or "nothing to certify"
+    method: str | None
+    reasons: list[str] = field(default_factory=list)
+
+
+def certifier_for(instance: Instance, method: str | None) -> str:
+    """The exact method independent of ``method`` (module docstring)."""
+    from milp.setpart import MAX_KPOIS
+
+    small = instance.n <= MAX_KPOIS
+    used = {method, "setpart" if (method == "exact" and small) else None,
+            "branchprice" if (method == "exact" and not small) else None}
+    for candidate in (("setpart",) if small else ()) + ("branchprice", "compact"):
+        if candidate not in used:
+            return candidate
+    return "compact"
+
+
+def certify(instance: Instance, fields: Mapping[str, Any], *, time_limit: float = 60.0) -> Certificate:
+    """Re-prove the ``status`` and ``bound`` claims of a (structurally valid) result.
+
+    ``fields`` is the parsed result JSON; its question (``routes_kind``, ``objective``,
+    ``robots_limit`` / ``deadline``) is asked again within ``time_limit`` seconds.
+    """
+    from parcover.solve import solve
+
+    status, bound = fields.get("status"), fields.get("bound")
+    if status not in ("optimal", "infeasible") and bound is None:
+        return Certificate("nothing to certify", None)
+    objective = fields.get("objective")
+    kind = fields.get("routes_kind", "paths")
+    method = certifier_for(instance, fields.get("method"))
+    if objective == "makespan":
+        answer = solve(instance, kind, robots=fields.get("robots_limit"), method=method, time_limit=time_limit)
+        claimed = fields.get("makespan")
+    else:
+        answer = solve(instance, kind, deadline=fields.get("deadline"), method=method, time_limit=time_limit)
+        claimed = fields.get("robots")
+    reasons = []
+    if answer.status is Status.INFEASIBLE:
+        if status != "infeasible":
+            reasons.append(f"{method} proves the question infeasible")
+        return Certificate("refuted" if reasons else "certified", method, reasons)
+    if status == "infeasible":
+        if answer.has_routes:
+            reasons.append(f"claimed infeasible, but {method} found a solution of value {answer.value:.10g}")
+            return Certificate("refuted", method, reasons)
+        return Certificate("undecided", method, [f"{method} neither found a solution nor proved none"])
+    found = answer.value if answer.has_routes else None
+    if bound is not None and found is not None and bound > found * (1 + 1e-7) + 1e-9:
+        reasons.append(f"bound {bound:.10g} is above a solution of value {found:.10g} found by {method}")
+    if answer.status is Status.OPTIMAL:
+        if status == "optimal" and claimed is not None and abs(claimed - found) > 1e-7 * max(1.0, abs(found)) + 1e-9:
+            reasons.append(f"claimed optimal {claimed:.10g}, {method} proves the optimum is {found:.10g}")
+        return Certificate("refuted" if reasons else "certified", method, reasons)
+    if status == "optimal" and claimed is not None and found is not None and found < claimed * (1 - 1e-7) - 1e-9:
+        reasons.append(f"claimed optimal {claimed:.10g}, {method} found {found:.10g}")
+    if reasons:
+        return Certificate("refuted", method, reasons)
+    proven = "-" if answer.bound is None else f"{answer.bound:.10g}"
+    return Certificate("undecided", method, [
+        f"{method} did not prove within {time_limit:g} s (its bound {proven}, its value "
+        f"{'-' if found is None else format(found, '.10g')})"])

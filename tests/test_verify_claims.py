@@ -1,0 +1,125 @@
+"""The verifier refuses every false claim of a solution file (issue 14, design.md section 3),
+and ``--certify`` re-proves the status and bound with an independent exact method."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import parcover as pc
+from parcover.certify import certifier_for
+from parcover.cli import main
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory) -> dict[str, Path]:
+    """An 8-KPOI instance, a greedy answer (nn, 3 robots, feasible) and the exact one."""
+    folder = tmp_path_factory.mktemp("claims")
+    instance = folder / "r8.json"
+    pc.write_instance(pc.generate.random_points(8, 3), instance)
+    out = {"instance": instance}
+    for method in ("nn", "exact"):
+        out[method] = folder / f"{method}.json"
+        assert main(["solve", str(instance), "--robots", "3", "--method", method, "--json",
+                     "--out", str(out[method])]) == 0
+    return out
+
+
+def run_verify(capsys, files, data: dict, *extra: str) -> tuple[int, str]:
+    path = files["instance"].parent / "tampered.json"
+    path.write_text(json.dumps(data))
+    capsys.readouterr()
+    code = main(["verify", str(files["instance"]), str(path), *extra])
+    return code, capsys.readouterr().out
+
+
+def genuine(files, method: str = "nn") -> dict:
+    return json.loads(files[method].read_text())
+
+
+def test_genuine_files_are_valid(capsys, files):
+    for method in ("nn", "exact"):
+        code, out = run_verify(capsys, files, genuine(files, method))
+        assert code == 0 and out.startswith("valid:"), out
+
+
+# One tampered claim per case (the issue's list); each must be refused with its reason.
+TAMPERED = [
+    ("makespan", lambda d: d.update(makespan=50.0), "makespan claims 50"),
+    ("route_costs", lambda d: d.update(route_costs=[1.0] * len(d["routes"])), "route_costs are false"),
+    ("robots", lambda d: d.update(robots=1), "robots claims 1"),
+    # 'optimal' with makespan = bound = 90: the makespan is false, and so is the status
+    ("optimal 90", lambda d: d.update(status="optimal", makespan=90.0, bound=90.0, gap=0.0), "makespan claims 90"),
+    ("bound above", lambda d: d.update(bound=d["makespan"] * 1.5, gap=0.0), "is above the value"),
+    ("negative gap", lambda d: d.update(gap=-0.5), "gap claims -0.5"),
+    ("infeasible with routes", lambda d: d.update(status="infeasible"), "status 'infeasible' with routes"),
+    ("objective robots", lambda d: d.update(objective="robots"), "objective 'robots' without a deadline"),
+    ("no robots_limit", lambda d: d.pop("robots_limit"), "objective 'makespan' without a robots_limit"),
+    ("optimal below", lambda d: d.update(status="optimal"), "status 'optimal' with bound"),
+]
+
+
+@pytest.mark.parametrize("change,reason", [(c, r) for _, c, r in TAMPERED], ids=[n for n, _, _ in TAMPERED])
+def test_false_claim_is_refused_with_its_reason(capsys, files, change, reason):
+    data = genuine(files)
+    change(data)
+    code, out = run_verify(capsys, files, data)
+    assert code == 1
+    assert any(line.startswith("invalid:") and reason in line for line in out.splitlines()), out
+
+
+@settings(max_examples=30, deadline=None)
+@given(key=st.sampled_from(["makespan", "route_cost", "bound", "gap"]),
+       factor=st.one_of(st.floats(0.0, 0.9999), st.floats(1.0001, 10.0)))
+def test_any_tampered_number_is_caught(files, key, factor):
+    data = genuine(files)
+    if key == "route_cost":
+        data["route_costs"][0] *= factor
+    elif key == "gap":
+        data["gap"] = data["gap"] * factor if data["gap"] else factor
+    elif key == "bound":  # raising it above the value, or a gap that no longer matches
+        data["bound"] *= factor
+    else:
+        data[key] *= factor
+    verdict = pc.verify(pc.load(str(files["instance"])), data)
+    assert not verdict.valid
+
+
+def test_certify_confirms_an_exact_answer(capsys, files):
+    code, out = run_verify(capsys, files, genuine(files, "exact"), "--certify", "--time-limit", "30")
+    assert code == 0 and "certified by" in out, out
+
+
+def test_certify_refutes_a_greedy_answer_claimed_optimal(capsys, files):
+    data = genuine(files)
+    exact = genuine(files, "exact")
+    assert data["makespan"] > exact["makespan"] * 1.001  # nn is not optimal here
+    data.update(status="optimal", bound=data["makespan"], gap=0.0)  # self-consistent, false
+    code, out = run_verify(capsys, files, data)
+    assert code == 0  # nothing the file says contradicts itself ...
+    code, out = run_verify(capsys, files, data, "--certify")
+    assert code == 1 and "proves the optimum is" in out, out  # ... but the optimum does
+
+
+def test_certify_uses_a_method_other_than_the_files():
+    small, large = pc.generate.random_points(8, 1), pc.generate.random_points(20, 1)
+    assert certifier_for(small, "exact") != "setpart"
+    assert certifier_for(small, "nn") == "setpart"
+    assert certifier_for(large, "exact") == "compact"
+    assert certifier_for(large, "branchprice") == "compact"
+    assert certifier_for(large, "compact") == "branchprice"
+
+
+def test_certify_says_when_it_cannot_decide(capsys, files, monkeypatch):
+    """A certifier that proves nothing (here: answering with a heuristic) leaves the claim
+    undecided: exit 3 and a line saying why."""
+    solve_module = sys.modules["parcover.solve"]  # parcover.solve is also the function
+    real = solve_module.solve
+    monkeypatch.setattr(solve_module, "solve", lambda *a, **k: real(*a, **{**k, "method": "nn"}))
+    code, out = run_verify(capsys, files, genuine(files, "exact"), "--certify")
+    assert code == 3 and out.splitlines()[-1].startswith("undecided:"), out
