@@ -13,15 +13,19 @@ independently. Five methods:
   counting (:mod:`milp.setpart`), an exact method independent of the compact model,
   for up to 16 KPOIs;
 - ``cvxpy``: the compact model written in cvxpy for reading (:mod:`milp.cvx`).
+
+``time_limit`` is seconds from the call or a :class:`~milp.deadline.Deadline` shared
+with the caller (:func:`parcover.solve` passes one); the warm start and the model
+share it.
 """
 
 from __future__ import annotations
 
 import os
-import time
 from collections.abc import Callable
 from typing import Any
 
+from milp.deadline import Deadline, TimeLimit
 from parcover.errors import InputError
 from parcover.instance import Instance
 from parcover.problem import MethodInfo, Problem, Solution
@@ -43,7 +47,7 @@ def exact(
     instance: Instance,
     problem: Problem,
     *,
-    time_limit: float | None = None,
+    time_limit: TimeLimit = None,
     seed: int = 0,
     warm_start: list[list[int]] | None = None,
     export_model: str | None = None,
@@ -73,7 +77,7 @@ def compact(
     instance: Instance,
     problem: Problem,
     *,
-    time_limit: float | None = None,
+    time_limit: TimeLimit = None,
     seed: int = 0,
     warm_start: list[list[int]] | None = None,
     export_model: str | None = None,
@@ -95,7 +99,7 @@ def branch_and_price(
     instance: Instance,
     problem: Problem,
     *,
-    time_limit: float | None = None,
+    time_limit: TimeLimit = None,
     seed: int = 0,
     warm_start: list[list[int]] | None = None,
 ) -> Solution:
@@ -114,17 +118,16 @@ def _warm_started(
     name: str,
     instance: Instance,
     problem: Problem,
-    time_limit: float | None,
+    time_limit: TimeLimit,
     seed: int,
     warm_start: list[list[int]] | None,
 ) -> Solution:
     """Run ``model.min_makespan`` / ``model.min_robots`` from ``warm_start`` or, without
     one, from the ``best`` heuristic's routes; the heuristic's time counts against
     ``time_limit``. ``info["model"]`` is ``name``."""
-    began = time.perf_counter()
-    start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
-    left = None if time_limit is None else max(time_limit - (time.perf_counter() - began), 0.0)
-    solution = _run(model.min_makespan, model.min_robots, instance, problem, left,
+    clock = Deadline.of(time_limit)
+    start = warm_start or warm_start_routes(instance, problem, clock, seed)
+    solution = _run(model.min_makespan, model.min_robots, instance, problem, clock,
                     warm_start=start)
     solution.info["model"] = name
     return solution
@@ -152,7 +155,7 @@ def _export(instance: Instance, problem: Problem, path: str) -> None:
 
 
 def setpart(
-    instance: Instance, problem: Problem, *, time_limit: float | None = None, seed: int = 0
+    instance: Instance, problem: Problem, *, time_limit: TimeLimit = None, seed: int = 0
 ) -> Solution:
     """Proven optimum by set partitioning over every subset's cheapest route (n <= 16)."""
     from milp import setpart as model
@@ -161,7 +164,7 @@ def setpart(
 
 
 def cvxpy_model(
-    instance: Instance, problem: Problem, *, time_limit: float | None = None, seed: int = 0
+    instance: Instance, problem: Problem, *, time_limit: TimeLimit = None, seed: int = 0
 ) -> Solution:
     """Proven optimum of the compact model as written in cvxpy (for reading)."""
     from milp import cvx
@@ -170,15 +173,16 @@ def cvxpy_model(
 
 
 def warm_start_routes(
-    instance: Instance, problem: Problem, time_limit: float | None, seed: int
+    instance: Instance, problem: Problem, time_limit: TimeLimit, seed: int
 ) -> list[list[int]] | None:
-    """Routes from the ``best`` heuristic when it is available, else ``None``."""
+    """Routes from the ``best`` heuristic when it is available, else ``None``; it gets
+    :data:`WARM_SHARE` of what is left of ``time_limit``."""
     from parcover.solve import available_methods
 
     methods = available_methods()
     if "best" not in methods:
         return None
-    budget = None if time_limit is None else WARM_SHARE * time_limit
+    budget = Deadline.of(time_limit).fraction(WARM_SHARE)
     solution = methods["best"].function(
         instance, problem, time_limit=budget, seed=seed, iterations=WARM_ROUNDS[problem.objective]
     )
@@ -190,9 +194,12 @@ def _run(
     min_robots: Callable[..., Any],
     instance: Instance,
     problem: Problem,
-    time_limit: float | None,
+    time_limit: TimeLimit,
     **kwargs: Any,
 ) -> Solution:
+    """Run a model's ``min_makespan`` or ``min_robots`` on ``problem`` with what is left
+    of ``time_limit`` (the models take seconds) and map its answer to a Solution."""
+    time_limit = Deadline.of(time_limit).remaining()
     d = instance.distances
     if problem.objective == "makespan":
         answer = min_makespan(d, problem.robots, tours=problem.tours, time_limit=time_limit, **kwargs)

@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from milp.deadline import Deadline, TimeLimit
 from parcover import exact
 from parcover.bounds import robots_lower_bound
 from parcover.instance import Instance
@@ -51,6 +52,7 @@ DEFAULT_ITERATIONS = 30
 #: Methods that are not constructions: ourselves, the trivial one and every exact method.
 _NOT_STARTS = frozenset({"best", "trivial", *(method.name for method in exact.METHODS)})
 _CONSTRUCTION_SHARE = 0.025  # of the time limit, for each construction
+_CONSTRUCTIONS_SHARE = 0.5  # of the time limit: no construction starts after it
 _ROBOTS_SHARE = 0.4  # of the time limit, robots objective: the rest goes to fewer_robots
 _CHAIN = 3  # longest chain of KPOIs moved by or-opt / relocate
 _GRANULARITY = 20  # relocate tries slots next to this many nearest KPOIs
@@ -68,7 +70,7 @@ def best(
     instance: Instance,
     problem: Problem,
     *,
-    time_limit: float | None = None,
+    time_limit: TimeLimit = None,
     seed: int = 0,
     iterations: int | None = None,
 ) -> Solution:
@@ -79,7 +81,8 @@ def best(
     instance, problem
         The question; both objectives and both route kinds.
     time_limit
-        Seconds for the whole run. Results then may depend on the machine's speed.
+        Seconds for the whole run, or a :class:`~milp.deadline.Deadline` shared with
+        the caller. Results then may depend on the machine's speed.
     seed
         Seed of the ruin-and-recreate rounds (and of the constructions).
     iterations
@@ -94,6 +97,7 @@ def best(
         started from), ``start_value`` and ``value`` (the objective key: makespan and
         total length, or robots, makespan and total length) and ``iterations``.
     """
+    time_limit = Deadline.of(time_limit).remaining()
     started = time.perf_counter()
     deadline = problem.effective_deadline(instance)
     if deadline is not None and not meets_deadline(problem.least_makespan(instance), deadline):
@@ -158,27 +162,33 @@ def best_construction(
 ) -> tuple[str, list[list[int]]]:
     """The valid construction with the least objective key (name, routes).
 
-    Every registered method except ``best``, ``trivial`` and the exact ones is tried
-    (each gets :data:`_CONSTRUCTION_SHARE` of the time limit, so that most of it is
-    left to the search); one that raises or answers invalid routes
-    is skipped. :func:`min_max_insertion` always takes part. Ties go to the
-    construction listed first (registry order, then ours).
+    :func:`min_max_insertion` always takes part; every registered method except
+    ``best``, ``trivial`` and the exact ones is tried too (each gets
+    :data:`_CONSTRUCTION_SHARE` of the time limit, and none starts once
+    :data:`_CONSTRUCTIONS_SHARE` of it has passed, as most constructions cannot be
+    interrupted and some take seconds at 1000 KPOIs); one that raises or answers
+    invalid routes is skipped. Ties go to the construction listed first (registry
+    order, then ours).
     """
     from parcover.solve import available_methods  # solve imports this module
 
+    stop = None if time_limit is None else time.perf_counter() + _CONSTRUCTIONS_SHARE * time_limit
     search = _Search(instance, problem)
+    ours = ("min_max_insertion", min_max_insertion(instance, problem))
     candidates: list[tuple[str, list[list[int]]]] = []
     share = None if time_limit is None else time_limit * _CONSTRUCTION_SHARE
     for name, info in available_methods().items():
         if name in _NOT_STARTS:
             continue
+        if stop is not None and time.perf_counter() >= stop:
+            break
         try:
             solution = info.function(instance, problem, time_limit=share, seed=seed)
         except Exception:  # a failing construction must not break `best`
             continue
         if not solution.drops_deadline and search.valid(solution.routes):
             candidates.append((name, [list(map(int, r)) for r in solution.routes if r]))
-    candidates.append(("min_max_insertion", min_max_insertion(instance, problem)))
+    candidates.append(ours)
     return min(candidates, key=lambda c: search.key(search.sequences(c[1])))
 
 
@@ -375,7 +385,7 @@ class _Search:
     def two_opt(self, s: list[int]) -> bool:
         """Reverse ``s[i..j]`` while that shortens the route (best move each time)."""
         d, changed = self.d, False
-        while True:
+        while not self.out_of_time():
             top, gain = None, self.tol
             for i in range(1, len(s) - 2):
                 a, b = s[i - 1], s[i]
@@ -390,12 +400,13 @@ class _Search:
             i, j = top
             s[i : j + 1] = s[i : j + 1][::-1]
             changed = True
+        return changed
 
     def or_opt(self, s: list[int]) -> bool:
         """Move a chain of 1-3 KPOIs (maybe reversed) elsewhere in its route."""
         d, changed = self.d, False
         i = 1
-        while i < len(s) - 1:
+        while i < len(s) - 1 and not self.out_of_time():
             moved = False
             for length in range(1, _CHAIN + 1):
                 if i + length > len(s) - 1:
@@ -433,7 +444,7 @@ class _Search:
         where = self.positions(seqs)
         for a in range(len(seqs)):
             i = 1
-            while i < len(seqs[a]) - 1:
+            while i < len(seqs[a]) - 1 and not self.out_of_time():
                 sa = seqs[a]
                 top, top_key = None, None
                 for length in range(1, _CHAIN + 1):
@@ -512,6 +523,8 @@ class _Search:
                     continue
                 sa, sb = seqs[a], seqs[b]
                 for i in range(1, len(sa) - 1):
+                    if self.out_of_time():
+                        return
                     ca, cb = costs[a], costs[b]
                     old, total = max(ca, cb), ca + cb
                     p, x, q = sa[i - 1], sa[i], sa[i + 1]
@@ -541,7 +554,7 @@ class _Search:
             for b in range(a + 1, len(seqs)):
                 if not ({a, b} & active or {a, b} & changed):
                     continue
-                while True:
+                while not self.out_of_time():
                     sa, sb = seqs[a], seqs[b]
                     pa, ta = self.prefix_suffix(sa)
                     pb, tb = self.prefix_suffix(sb)
