@@ -104,12 +104,14 @@ HEURISTIC_SHARE = 0.2
 #: Share of a time limit kept back from HiGHS in min_makespan for the column-generation
 #: bound, computed only when HiGHS stops before proving the optimum.
 BOUND_SHARE = 0.1
-#: Seconds per arc to assemble the model and hand it to HiGHS, and HiGHS' own overrun
-#: of its time limit per arc (presolve and root set-up are not interrupted): measured
-#: 6.7 and 8.6 microseconds at 1000 KPOIs (865,000 arcs), rounded up. Under a time
-#: limit the model is built only when the rest of the limit covers twice this set-up.
+#: Seconds per arc to assemble the model and hand it to HiGHS (6.7 microseconds
+#: measured at 1000 KPOIs, 865,000 arcs, rounded up), and HiGHS' overrun of its time
+#: limit per arc, by objective: its presolve is not interrupted and takes up to 8.6
+#: microseconds per arc on the makespan model (1000 KPOIs) but 25-50 on the robots model
+#: (200-400 KPOIs, tours). Under a time limit the model is built only when the rest of
+#: the limit covers twice set-up plus overrun, and HiGHS' limit is cut by the overrun.
 SETUP_SECONDS_PER_ARC = 8e-6
-OVERRUN_SECONDS_PER_ARC = 1e-5
+OVERRUN_SECONDS_PER_ARC = {"makespan": 1e-5, "robots": 6e-5}
 
 
 @dataclass(frozen=True)
@@ -376,11 +378,11 @@ def min_makespan(
     if upper <= L * (1 + BOUND_SLACK * 1e-3):
         return _proven(D, merged.expand(start), tours, L, began, "warm start meets the lower bound")
     arcs = len(_arcs(merged.D, tours=tours, U=upper)[0])
-    if not _model_fits(arcs, clock):
+    if not _model_fits(arcs, "makespan", clock):
         routes = merged.expand(start)
         return _unsolved(D, routes, makespan(D, routes, tours=tours), L, began, arcs)
     model = _assemble(merged, tours=tours, U=upper, k=k)
-    solve = solve_lp(model.lp, time_limit=_highs_seconds(clock, arcs, BOUND_SHARE),
+    solve = solve_lp(model.lp, time_limit=_highs_seconds(clock, arcs, "makespan", BOUND_SHARE),
                      start=model.start_vector(start), options=SEARCH_OPTIONS)
     if solve.status != "optimal" and not clock.expired():
         # The compact LP bound is weak (milp/README.md): column generation's is far stronger.
@@ -390,21 +392,23 @@ def min_makespan(
     return _makespan_result(D, model, solve, start, L, began)
 
 
-def _model_fits(arcs: int, clock: Deadline) -> bool:
+def _model_fits(arcs: int, objective: str, clock: Deadline) -> bool:
     """Whether the rest of the time limit covers twice the set-up of a model of ``arcs``
-    arcs (assembly and HiGHS' uninterrupted start, :data:`SETUP_SECONDS_PER_ARC` and
-    :data:`OVERRUN_SECONDS_PER_ARC`), so that HiGHS gets to search."""
+    arcs for ``objective`` (assembly and HiGHS' uninterrupted presolve,
+    :data:`SETUP_SECONDS_PER_ARC` and :data:`OVERRUN_SECONDS_PER_ARC`), so that HiGHS
+    gets to search."""
     left = clock.remaining()
-    return left is None or left >= 2 * arcs * (SETUP_SECONDS_PER_ARC + OVERRUN_SECONDS_PER_ARC)
+    per_arc = SETUP_SECONDS_PER_ARC + OVERRUN_SECONDS_PER_ARC[objective]
+    return left is None or left >= 2 * arcs * per_arc
 
 
-def _highs_seconds(clock: Deadline, arcs: int, reserve_share: float = 0.0) -> float | None:
+def _highs_seconds(clock: Deadline, arcs: int, objective: str, reserve_share: float = 0.0) -> float | None:
     """HiGHS' time limit: the rest of ``clock`` less ``reserve_share`` of it (kept for
     later work) and less HiGHS' expected overrun on a model of ``arcs`` arcs."""
     left = clock.remaining()
     if left is None:
         return None
-    return max((1 - reserve_share) * left - arcs * OVERRUN_SECONDS_PER_ARC, 0.0)
+    return max((1 - reserve_share) * left - arcs * OVERRUN_SECONDS_PER_ARC[objective], 0.0)
 
 
 def _unsolved(
@@ -504,10 +508,10 @@ def min_robots(
         return _proven(D, merged.expand(start), tours, len(start), began,
                        "heuristic meets the column-generation bound")
     arcs = len(_arcs(merged.D, tours=tours, U=float(deadline))[0])
-    if not _model_fits(arcs, clock):
+    if not _model_fits(arcs, "robots", clock):
         return _unsolved(D, merged.expand(start), float(len(start)), float(fewest), began, arcs)
     model = _assemble(merged, tours=tours, U=float(deadline), k=None, fewest=fewest)
-    solve = solve_lp(model.lp, time_limit=_highs_seconds(clock, arcs),
+    solve = solve_lp(model.lp, time_limit=_highs_seconds(clock, arcs, "robots"),
                      start=model.start_vector(start), options=SEARCH_OPTIONS)
     if solve.status == "infeasible":
         raise AssertionError("HiGHS reports infeasible although the warm start is valid")
