@@ -28,6 +28,7 @@ dummy end at distance 0 from everything (paths), so both route kinds share every
 
 from __future__ import annotations
 
+import functools
 import math
 import random
 import time
@@ -53,6 +54,7 @@ DEFAULT_ITERATIONS = 30
 _NOT_STARTS = frozenset({"best", "trivial", *(method.name for method in exact.METHODS)})
 _CONSTRUCTION_SHARE = 0.025  # of the time limit, for each construction
 _CONSTRUCTIONS_SHARE = 0.5  # of the time limit: no construction starts after it
+_INSERTION_SECONDS = 1.5e-6  # min_max_insertion per KPOI pair (1.3 s at 1000 KPOIs, measured)
 _ROBOTS_SHARE = 0.4  # of the time limit, robots objective: the rest goes to fewer_robots
 _CHAIN = 3  # longest chain of KPOIs moved by or-opt / relocate
 _GRANULARITY = 20  # relocate tries slots next to this many nearest KPOIs
@@ -162,19 +164,19 @@ def best_construction(
 ) -> tuple[str, list[list[int]]]:
     """The valid construction with the least objective key (name, routes).
 
-    :func:`min_max_insertion` always takes part; every registered method except
-    ``best``, ``trivial`` and the exact ones is tried too (each gets
-    :data:`_CONSTRUCTION_SHARE` of the time limit, and none starts once
-    :data:`_CONSTRUCTIONS_SHARE` of it has passed, as most constructions cannot be
-    interrupted and some take seconds at 1000 KPOIs); one that raises or answers
-    invalid routes is skipped. Ties go to the construction listed first (registry
-    order, then ours).
+    Every registered method except ``best``, ``trivial`` and the exact ones is tried
+    (each gets :data:`_CONSTRUCTION_SHARE` of the time limit), then
+    :func:`min_max_insertion`. Most constructions cannot be interrupted and some take
+    a second at 1000 KPOIs, so under a time limit none starts once
+    :data:`_CONSTRUCTIONS_SHARE` of it has passed, and ours (O(n^2)) only when its
+    expected time (:data:`_INSERTION_SECONDS`) fits or nothing else answered. One that
+    raises or answers invalid routes is skipped. Ties go to the construction listed
+    first (registry order, then ours).
     """
     from parcover.solve import available_methods  # solve imports this module
 
     stop = None if time_limit is None else time.perf_counter() + _CONSTRUCTIONS_SHARE * time_limit
     search = _Search(instance, problem)
-    ours = ("min_max_insertion", min_max_insertion(instance, problem))
     candidates: list[tuple[str, list[list[int]]]] = []
     share = None if time_limit is None else time_limit * _CONSTRUCTION_SHARE
     for name, info in available_methods().items():
@@ -188,7 +190,9 @@ def best_construction(
             continue
         if not solution.drops_deadline and search.valid(solution.routes):
             candidates.append((name, [list(map(int, r)) for r in solution.routes if r]))
-    candidates.append(ours)
+    ours_ends = time.perf_counter() + _INSERTION_SECONDS * instance.n**2
+    if stop is None or ours_ends <= stop or not candidates:
+        candidates.append(("min_max_insertion", min_max_insertion(instance, problem)))
     return min(candidates, key=lambda c: search.key(search.sequences(c[1])))
 
 
@@ -307,10 +311,20 @@ class _Search:
         self.tol = 1e-9 * max(1.0, float(matrix.max()))
         self.robots = problem.robots
         self.deadline = problem.effective_deadline(instance)
-        self.neighbours = np.argsort(matrix[1 : n + 1, 1 : n + 1], axis=1, kind="stable") + 1
-        # near[v]: the KPOIs nearest v (nearest first), as Python ints for the hot loops
-        self.near: list[list[int]] = [[], *self.neighbours[:, :_GRANULARITY].tolist()]
+        self.matrix = matrix
         self.stop = stop
+
+    @functools.cached_property
+    def neighbours(self) -> np.ndarray:
+        """Row ``v - 1``: every KPOI by distance from KPOI ``v`` (computed when first
+        needed: O(n^2 log n), a fifth of a second at 1000 KPOIs)."""
+        n = self.n
+        return np.argsort(self.matrix[1 : n + 1, 1 : n + 1], axis=1, kind="stable") + 1
+
+    @functools.cached_property
+    def near(self) -> list[list[int]]:
+        """``near[v]``: the KPOIs nearest v (nearest first), as Python ints for the hot loops."""
+        return [[], *self.neighbours[:, :_GRANULARITY].tolist()]
 
     # ----- bookkeeping -------------------------------------------------------------
 
