@@ -356,7 +356,7 @@ def _build_parser() -> argparse.ArgumentParser:
     question.add_argument("--deadline", type=_float, metavar="C", help="every route within C: minimise the robots")
     p.add_argument("--method", default="exact", help="solution method (see below; default: exact)")
     limits = p.add_argument_group("limits")
-    limits.add_argument("--time-limit", type=_positive_float, metavar="SECONDS", help="time limit of the method")
+    limits.add_argument("--time-limit", type=_positive_float, metavar="SECONDS", help="seconds for the whole solve, reading the instance included")
     limits.add_argument("--seed", type=_seed, default=0, help="seed of randomised methods (default: 0)")
     p.add_argument("--trace", action="store_true", help="print every step of the paper's algorithms")
     p.add_argument("--export-model", metavar="FILE.mps",
