@@ -52,14 +52,19 @@ def exact(
     warm_start: list[list[int]] | None = None,
     export_model: str | None = None,
 ) -> Solution:
-    """Proven optimum within ``time_limit``: :func:`setpart` for small instances, else
-    :func:`branch_and_price`.
+    """Proven optimum within ``time_limit``: :func:`setpart` for small instances,
+    :func:`branch_and_price` up to :data:`milp.branchprice.MAX_KPOIS` KPOIs, else
+    :func:`compact`.
 
     ``info["model"]`` names the one used. Options as :func:`compact` (``warm_start`` is
     only checked by ``setpart``; ``export_model`` always writes the compact model).
     """
+    from milp import branchprice
     from milp import setpart as model
 
+    if instance.n > branchprice.MAX_KPOIS:
+        return compact(instance, problem, time_limit=time_limit, seed=seed, warm_start=warm_start,
+                       export_model=export_model)
     if instance.n > model.MAX_KPOIS:
         if export_model:
             _export(instance, problem, export_model)
