@@ -59,20 +59,22 @@ def exact(
     ``info["model"]`` names the one used. Options as :func:`compact` (``warm_start`` is
     only checked by ``setpart``; ``export_model`` always writes the compact model).
     """
-    from milp import branchprice
+    clock = Deadline.of(time_limit)  # the imports below count against the limit
     from milp import setpart as model
 
-    if instance.n > branchprice.MAX_KPOIS:
-        return compact(instance, problem, time_limit=time_limit, seed=seed, warm_start=warm_start,
-                       export_model=export_model)
     if instance.n > model.MAX_KPOIS:
+        from milp import branchprice  # numba: only when needed
+
+        if instance.n > branchprice.MAX_KPOIS:
+            return compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start,
+                           export_model=export_model)
         if export_model:
             _export(instance, problem, export_model)
-        return branch_and_price(instance, problem, time_limit=time_limit, seed=seed,
+        return branch_and_price(instance, problem, time_limit=clock, seed=seed,
                                 warm_start=warm_start)
     if export_model:
         _export(instance, problem, export_model)
-    solution = _run(model.min_makespan, model.min_robots, instance, problem, time_limit,
+    solution = _run(model.min_makespan, model.min_robots, instance, problem, clock,
                     warm_start=warm_start)
     solution.info["model"] = "setpart"
     return solution

@@ -26,8 +26,10 @@ __all__ = ["solve", "METHODS", "MethodInfo", "SolverError", "register_method"]
 
 _VALUE_RTOL = 1e-9
 # Share of a time limit kept back from the method for verifying its routes, the
-# spanning-tree bound and printing (a few milliseconds at 1000 KPOIs, measured).
-_CHECK_SHARE = 0.02
+# spanning-tree bound, printing and the process's exit (a few milliseconds, but 0.2 s
+# of exit after numba was loaded), and for the methods' uninterruptible steps (numba
+# loading its compiled labelling: 0.3 s): measured at 200 KPOIs.
+_CHECK_SHARE = 0.1
 
 
 class SolverError(RuntimeError):
