@@ -95,11 +95,12 @@ def compact(
     heuristic provides one. ``export_model`` writes the model to an ``.mps`` or ``.lp``
     file that any MILP solver can read.
     """
+    clock = Deadline.of(time_limit)  # the import below counts against the limit
     from milp import arcflow
 
     if export_model:
         _export(instance, problem, export_model)
-    return _warm_started(arcflow, "compact", instance, problem, time_limit, seed, warm_start)
+    return _warm_started(arcflow, "compact", instance, problem, clock, seed, warm_start)
 
 
 def branch_and_price(
@@ -115,9 +116,18 @@ def branch_and_price(
     The fewest routes within a deadline by column generation with arc branching; the
     least makespan as a sequence of those decisions. ``warm_start`` as :func:`compact`.
     """
+    clock = Deadline.of(time_limit)  # the import below counts against the limit
     from milp import branchprice
 
-    return _warm_started(branchprice, "branchprice", instance, problem, time_limit, seed, warm_start)
+    _check_size(instance, branchprice.MAX_KPOIS, "branchprice")
+    return _warm_started(branchprice, "branchprice", instance, problem, clock, seed, warm_start)
+
+
+def _check_size(instance: Instance, most: int, method: str) -> None:
+    """Refuse an instance above a method's size limit with one line."""
+    if instance.n > most:
+        raise InputError(f"Method {method!r} handles at most {most} KPOIs, this instance has {instance.n}; "
+                         "use exact or compact.")
 
 
 def _warm_started(
@@ -167,6 +177,7 @@ def setpart(
     """Proven optimum by set partitioning over every subset's cheapest route (n <= 16)."""
     from milp import setpart as model
 
+    _check_size(instance, model.MAX_KPOIS, "setpart")
     return _run(model.min_makespan, model.min_robots, instance, problem, time_limit)
 
 
