@@ -85,6 +85,7 @@ from milp.routes import (
     route_cost,
     within,
 )
+from milp.deadline import Deadline, TimeLimit
 from milp.warmstart import good_makespan_routes, nearest_neighbour_order, split_min_robots
 
 
@@ -103,6 +104,14 @@ HEURISTIC_SHARE = 0.2
 #: Share of a time limit kept back from HiGHS in min_makespan for the column-generation
 #: bound, computed only when HiGHS stops before proving the optimum.
 BOUND_SHARE = 0.1
+#: Seconds per arc to assemble the model and hand it to HiGHS (6.7 microseconds
+#: measured at 1000 KPOIs, 865,000 arcs, rounded up), and HiGHS' overrun of its time
+#: limit per arc, by objective: its presolve is not interrupted and takes up to 8.6
+#: microseconds per arc on the makespan model (1000 KPOIs) but 25-50 on the robots model
+#: (200-400 KPOIs, tours). Under a time limit the model is built only when the rest of
+#: the limit covers twice set-up plus overrun, and HiGHS' limit is cut by the overrun.
+SETUP_SECONDS_PER_ARC = 8e-6
+OVERRUN_SECONDS_PER_ARC = {"makespan": 1e-5, "robots": 6e-5}
 
 
 @dataclass(frozen=True)
@@ -327,7 +336,7 @@ def min_makespan(
     k: int,
     *,
     tours: bool,
-    time_limit: float | None = None,
+    time_limit: TimeLimit = None,
     warm_start: list[list[int]] | None = None,
 ) -> MilpResult:
     """Least makespan with at most ``k`` robots.
@@ -340,9 +349,11 @@ def min_makespan(
         Robots available (at least 1; fewer may be used).
     tours : bool
         Tours (return to 0) or open paths.
-    time_limit : float, optional
-        Seconds for the whole call (heuristic, model, HiGHS); None for no limit. HiGHS
-        gets at least 1 ms, so a tiny limit can be exceeded slightly.
+    time_limit : float or milp.deadline.Deadline, optional
+        Seconds for the whole call (heuristic, model, HiGHS, column-generation bound),
+        or a deadline shared with the caller; None for no limit. When the rest of the
+        limit cannot cover building the model (:func:`_model_fits`), the heuristic's
+        routes are returned with the spanning-tree bound.
     warm_start : list of list of int, optional
         A valid solution with at most ``k`` routes; its makespan bounds the model.
 
@@ -352,6 +363,7 @@ def min_makespan(
         ``objective`` is the makespan.
     """
     began = time.perf_counter()
+    clock = Deadline.of(time_limit)
     D = check_distance_matrix(D)
     if k < 1:
         raise ValueError("k must be at least 1")
@@ -360,31 +372,63 @@ def min_makespan(
         raise ValueError(f"warm start has more than k={k} routes")
     if merged.size == 0:
         return _proven(D, merged.expand([]), tours, 0.0, began, "every KPOI is at the start")
-    budget = None if time_limit is None else HEURISTIC_SHARE * time_limit
-    start = _best_makespan_start(merged, k, tours, warm_start, budget)
+    start = _best_makespan_start(merged, k, tours, warm_start, clock.fraction(HEURISTIC_SHARE))
     upper = makespan(merged.D, start, tours=tours)
     L = makespan_lower_bound(merged.D, k, tours=tours)
     if upper <= L * (1 + BOUND_SLACK * 1e-3):
         return _proven(D, merged.expand(start), tours, L, began, "warm start meets the lower bound")
+    arcs = len(_arcs(merged.D, tours=tours, U=upper)[0])
+    if not _model_fits(arcs, "makespan", clock):
+        routes = merged.expand(start)
+        return _unsolved(D, routes, makespan(D, routes, tours=tours), L, began, arcs)
     model = _assemble(merged, tours=tours, U=upper, k=k)
-    reserve = 0.0 if time_limit is None else BOUND_SHARE * time_limit
-    solve = solve_lp(model.lp, time_limit=_remaining(time_limit, began, reserve),
+    solve = solve_lp(model.lp, time_limit=_highs_seconds(clock, arcs, "makespan", BOUND_SHARE),
                      start=model.start_vector(start), options=SEARCH_OPTIONS)
-    left = _remaining(time_limit, began)
-    if solve.status != "optimal" and (left is None or left > 0):
+    if solve.status != "optimal" and not clock.expired():
         # The compact LP bound is weak (milp/README.md): column generation's is far stronger.
         # Computed only now, because as a hard bound on T it slows HiGHS down.
         incumbent = min(upper, solve.objective if solve.objective is not None else upper)
-        L = max(L, colgen.makespan_lower_bound(merged.D, k, tours=tours, upper=incumbent, time_limit=left))
+        L = max(L, colgen.makespan_lower_bound(merged.D, k, tours=tours, upper=incumbent, time_limit=clock))
     return _makespan_result(D, model, solve, start, L, began)
+
+
+def _model_fits(arcs: int, objective: str, clock: Deadline) -> bool:
+    """Whether the rest of the time limit covers twice the set-up of a model of ``arcs``
+    arcs for ``objective`` (assembly and HiGHS' uninterrupted presolve,
+    :data:`SETUP_SECONDS_PER_ARC` and :data:`OVERRUN_SECONDS_PER_ARC`), so that HiGHS
+    gets to search."""
+    left = clock.remaining()
+    per_arc = SETUP_SECONDS_PER_ARC + OVERRUN_SECONDS_PER_ARC[objective]
+    return left is None or left >= 2 * arcs * per_arc
+
+
+def _highs_seconds(clock: Deadline, arcs: int, objective: str, reserve_share: float = 0.0) -> float | None:
+    """HiGHS' time limit: the rest of ``clock`` less ``reserve_share`` of it (kept for
+    later work) and less HiGHS' expected overrun on a model of ``arcs`` arcs."""
+    left = clock.remaining()
+    if left is None:
+        return None
+    return max((1 - reserve_share) * left - arcs * OVERRUN_SECONDS_PER_ARC[objective], 0.0)
+
+
+def _unsolved(
+    D: np.ndarray, routes: list[list[int]], value: float, bound: float, began: float, arcs: int
+) -> MilpResult:
+    """The warm start (objective ``value``), ``feasible`` with ``bound``, when the model
+    cannot be built in time."""
+    check_routes(routes, len(D) - 1)
+    bound = min(bound, value)
+    return MilpResult("feasible", routes, value, bound, relative_gap(value, bound), 0,
+                      time.perf_counter() - began,
+                      f"time limit: no time left to build the model ({arcs} arcs)")
 
 
 def _best_makespan_start(
     merged: Merged, k: int, tours: bool, warm_start: list[list[int]] | None,
-    seconds: float | None,
+    clock: Deadline,
 ) -> list[list[int]]:
     """The better of the given warm start and the heuristic solution (model space)."""
-    candidates = [good_makespan_routes(merged.D, k, tours=tours, seconds=seconds)]
+    candidates = [good_makespan_routes(merged.D, k, tours=tours, seconds=clock)]
     if warm_start is not None:
         candidates.append(merged.reduce(warm_start))
     return min(candidates, key=lambda routes: makespan(merged.D, routes, tours=tours))
@@ -414,7 +458,7 @@ def min_robots(
     deadline: float,
     *,
     tours: bool,
-    time_limit: float | None = None,
+    time_limit: TimeLimit = None,
     warm_start: list[list[int]] | None = None,
 ) -> MilpResult:
     """Fewest robots whose routes all meet ``deadline``.
@@ -427,9 +471,11 @@ def min_robots(
         Largest allowed route cost ``U`` (tolerance ``U (1 + 1e-9) + 1e-9``).
     tours : bool
         Tours (return to 0) or open paths.
-    time_limit : float, optional
-        Seconds for the whole call (heuristic, model, HiGHS); None for no limit. HiGHS
-        gets at least 1 ms, so a tiny limit can be exceeded slightly.
+    time_limit : float or milp.deadline.Deadline, optional
+        Seconds for the whole call (column generation, heuristic, model, HiGHS), or a
+        deadline shared with the caller; None for no limit. When the rest of the limit
+        cannot cover building the model (:func:`_model_fits`), the heuristic's routes are
+        returned with the bound found so far.
     warm_start : list of list of int, optional
         A valid solution whose routes all meet the deadline.
 
@@ -440,6 +486,7 @@ def min_robots(
         solver) when the deadline is below ``c_max`` (paths) / ``2 c_max`` (tours).
     """
     began = time.perf_counter()
+    clock = Deadline.of(time_limit)
     D = check_distance_matrix(D)
     L = least_makespan(D, tours=tours)
     if not within(L, deadline):
@@ -452,16 +499,19 @@ def min_robots(
             raise ValueError("a warm-start route exceeds the deadline")
     if merged.size == 0:
         return _proven(D, merged.expand([]), tours, 1, began, "every KPOI is at the start")
-    budget = None if time_limit is None else HEURISTIC_SHARE * time_limit
-    info = colgen.robots_bound(merged.D, deadline, tours=tours, time_limit=budget, routes=True)
+    info = colgen.robots_bound(merged.D, deadline, tours=tours, time_limit=clock.fraction(HEURISTIC_SHARE),
+                               routes=True)
     fewest = info.robots()
     given = [info.routes] + ([merged.reduce(warm_start)] if warm_start is not None else [])
-    start = _robots_start(merged, deadline, fewest, tours, given, budget)
+    start = _robots_start(merged, deadline, fewest, tours, given, clock.fraction(HEURISTIC_SHARE))
     if len(start) <= fewest:
         return _proven(D, merged.expand(start), tours, len(start), began,
                        "heuristic meets the column-generation bound")
+    arcs = len(_arcs(merged.D, tours=tours, U=float(deadline))[0])
+    if not _model_fits(arcs, "robots", clock):
+        return _unsolved(D, merged.expand(start), float(len(start)), float(fewest), began, arcs)
     model = _assemble(merged, tours=tours, U=float(deadline), k=None, fewest=fewest)
-    solve = solve_lp(model.lp, time_limit=_remaining(time_limit, began),
+    solve = solve_lp(model.lp, time_limit=_highs_seconds(clock, arcs, "robots"),
                      start=model.start_vector(start), options=SEARCH_OPTIONS)
     if solve.status == "infeasible":
         raise AssertionError("HiGHS reports infeasible although the warm start is valid")
@@ -475,30 +525,25 @@ def min_robots(
                       solve.message)
 
 
-def _remaining(time_limit: float | None, began: float, reserve: float = 0.0) -> float | None:
-    """What is left of ``time_limit`` since ``began``, less ``reserve`` (None: no limit)."""
-    return None if time_limit is None else time_limit - reserve - (time.perf_counter() - began)
-
-
 def _robots_start(
     merged: Merged, deadline: float, fewest: int, tours: bool,
-    given: list[list[list[int]]], seconds: float | None,
+    given: list[list[list[int]]], clock: Deadline,
 ) -> list[list[int]]:
     """Fewest routes found by the heuristics and the ``given`` solutions, model space.
 
     ``given`` are valid route sets in model space (empty ones are skipped): the
     column-generation master's and the caller's warm start. The nearest-neighbour split
     gives a count ``h``; then ``q = fewest, ..., h - 1`` routes are tried with
-    :func:`milp.warmstart.good_makespan_routes` until one meets the deadline.
+    :func:`milp.warmstart.good_makespan_routes` until one meets the deadline or
+    ``clock`` runs out.
     """
     order = nearest_neighbour_order(merged.D)
     candidates = [split_min_robots(merged.D, order, deadline, tours=tours)]
     candidates += [routes for routes in given if routes]
-    began = time.perf_counter()
     for q in range(fewest, min(map(len, candidates))):
-        if seconds is not None and time.perf_counter() - began > seconds:
+        if clock.expired():
             break
-        routes = good_makespan_routes(merged.D, q, tours=tours, seconds=seconds)
+        routes = good_makespan_routes(merged.D, q, tours=tours, seconds=clock)
         if within(makespan(merged.D, routes, tours=tours), deadline):
             candidates.append(routes)
             break

@@ -11,6 +11,7 @@ import time
 
 import numpy as np
 
+from milp.deadline import Deadline, TimeLimit
 from milp.routes import route_cost, within
 
 
@@ -96,19 +97,44 @@ def split_min_robots(
     return routes[::-1]
 
 
-def two_opt(D: np.ndarray, route: list[int], *, tours: bool) -> list[int]:
-    """Route improved by segment reversals until none shortens it (first improvement)."""
-    best, best_cost = list(route), route_cost(D, route, tours=tours)
-    improved = True
+def two_opt(D: np.ndarray, route: list[int], *, tours: bool, deadline: Deadline | None = None) -> list[int]:
+    """Route improved by segment reversals until none shortens it (first improvement).
+
+    For each first position ``i`` in turn, the reversals of ``route[i..j]`` for every
+    ``j > i`` are priced at once (the change of the two arcs that move, ``D`` being
+    symmetric) and the first that shortens the route by more than 1e-9 is applied;
+    the scan goes on after ``j`` on the new route. Stops early, with the route as it
+    is, once ``deadline`` has passed.
+    """
+    best = list(route)
+    m = len(best)
+    improved = m > 1
     while improved:
         improved = False
-        for i in range(len(best) - 1):
-            for j in range(i + 1, len(best)):
-                candidate = best[:i] + best[i : j + 1][::-1] + best[j + 1 :]
-                cost = route_cost(D, candidate, tours=tours)
-                if cost < best_cost - 1e-9:
-                    best, best_cost, improved = candidate, cost, True
+        for i in range(m - 1):
+            if deadline is not None and deadline.expired():
+                return best
+            j = i + 1
+            while j < m:
+                found = _first_shortening_reversal(D, best, i, j, tours=tours)
+                if found is None:
+                    break
+                best[i : found + 1] = best[i : found + 1][::-1]
+                improved, j = True, found + 1
     return best
+
+
+def _first_shortening_reversal(D: np.ndarray, route: list[int], i: int, j: int, *, tours: bool) -> int | None:
+    """Least ``e >= j`` whose reversal of ``route[i..e]`` shortens the route, or None."""
+    stops = np.array([0, *route, 0])  # route[p] is stops[p + 1]
+    before, first = stops[i], stops[i + 1]
+    last = stops[j + 1 : len(route) + 1]  # route[e] for e = j .. m-1
+    after = stops[j + 2 : len(route) + 2]
+    change = D[before, last] - D[before, first] + D[first, after] - D[last, after]
+    if not tours:  # a path ends at route[m-1]: no arc after it
+        change[-1] = D[before, last[-1]] - D[before, first]
+    hits = np.flatnonzero(change < -1e-9)
+    return None if len(hits) == 0 else j + int(hits[0])
 
 
 def cheapest_insertion(D: np.ndarray, route: list[int], v: int, *, tours: bool) -> list[int]:
@@ -121,32 +147,40 @@ def cheapest_insertion(D: np.ndarray, route: list[int], v: int, *, tours: bool) 
     return route[:at] + [v] + route[at:]
 
 
-def relocate(D: np.ndarray, routes: list[list[int]], k: int, *, tours: bool) -> list[list[int]]:
+def relocate(
+    D: np.ndarray, routes: list[list[int]], k: int, *, tours: bool, deadline: Deadline | None = None
+) -> list[list[int]]:
     """Move KPOIs off the costliest route while that lowers both routes below it.
 
     Each accepted move lowers (makespan, number of routes at the makespan)
     lexicographically, so the loop ends. A new route is opened while fewer than ``k``.
+    Once ``deadline`` has passed no further move is searched (the routes stay valid).
     """
-    routes = [two_opt(D, r, tours=tours) for r in routes]
-    while True:
+    routes = [two_opt(D, r, tours=tours, deadline=deadline) for r in routes]
+    while deadline is None or not deadline.expired():
         costs = [route_cost(D, r, tours=tours) for r in routes]
         worst = int(np.argmax(costs))
-        move = _best_relocation(D, routes, worst, costs[worst], k, tours=tours)
+        move = _best_relocation(D, routes, worst, costs[worst], k, tours=tours, deadline=deadline)
         if move is None:
-            return routes
+            break
         routes = move
+    return routes
 
 
 def _best_relocation(
-    D: np.ndarray, routes: list[list[int]], worst: int, top: float, k: int, *, tours: bool
+    D: np.ndarray, routes: list[list[int]], worst: int, top: float, k: int, *, tours: bool,
+    deadline: Deadline | None = None,
 ) -> list[list[int]] | None:
-    """Routes after the best KPOI move out of route ``worst`` that beats ``top``, or None."""
+    """Routes after the best KPOI move out of route ``worst`` that beats ``top``, or None
+    (also when ``deadline`` passes before every move was priced)."""
     best, best_value = None, top - 1e-9
     targets = [i for i in range(len(routes)) if i != worst]
     if len(routes) < k:
         targets.append(len(routes))  # a new route
     for v in routes[worst]:
-        rest = two_opt(D, [u for u in routes[worst] if u != v], tours=tours)
+        if deadline is not None and deadline.expired():
+            return None
+        rest = two_opt(D, [u for u in routes[worst] if u != v], tours=tours, deadline=deadline)
         rest_cost = route_cost(D, rest, tours=tours) if rest else 0.0
         for t in targets:
             grown = cheapest_insertion(D, routes[t] if t < len(routes) else [], v, tours=tours)
@@ -154,25 +188,28 @@ def _best_relocation(
             if value < best_value:
                 best_value = value
                 best = [r for r in routes] + ([] if t < len(routes) else [[]])
-                best[worst], best[t] = rest, two_opt(D, grown, tours=tours)
+                best[worst], best[t] = rest, two_opt(D, grown, tours=tours, deadline=deadline)
     return None if best is None else [r for r in best if r]
 
 
 def good_makespan_routes(
-    D: np.ndarray, k: int, *, tours: bool, seconds: float | None = None
+    D: np.ndarray, k: int, *, tours: bool, seconds: TimeLimit = None
 ) -> list[list[int]]:
     """Best over several nearest-neighbour orders (each from a different first KPOI,
     improved by 2-opt) of the optimal split followed by relocations.
 
-    No new order is tried once ``seconds`` have passed (at least one always is).
+    ``seconds`` (a number from now, or a shared :class:`~milp.deadline.Deadline`) ends
+    the search: no new order is tried once it has passed, and the 2-opt and relocations
+    of the one under way stop where they are (at least one order is always split).
     """
-    began = time.perf_counter()
+    deadline = Deadline.of(seconds)
     n = len(D) - 1
     firsts = np.unique(np.linspace(1, n, min(n, MAX_STARTS)).round().astype(int))
     candidates = []
     for first in firsts.tolist():
-        if candidates and seconds is not None and time.perf_counter() - began > seconds:
+        if candidates and deadline.expired():
             break
-        order = two_opt(D, nearest_neighbour_order(D, first), tours=False)
-        candidates.append(relocate(D, split_min_makespan(D, order, k, tours=tours), k, tours=tours))
+        order = two_opt(D, nearest_neighbour_order(D, first), tours=False, deadline=deadline)
+        split = split_min_makespan(D, order, k, tours=tours)
+        candidates.append(relocate(D, split, k, tours=tours, deadline=deadline))
     return min(candidates, key=lambda routes: max(route_cost(D, r, tours=tours) for r in routes))

@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import NoReturn
 
 from parcover import __version__
+from milp.deadline import Deadline
 from parcover import generate as gen
 from parcover.errors import InputError
 from parcover.frontier import frontier
@@ -63,6 +64,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _solve(args: argparse.Namespace) -> int:
+    # One deadline from here: reading the instance counts against --time-limit.
+    clock = Deadline(args.time_limit)
     _check_outputs(args, out=args.out, plot=args.plot, model=args.export_model)
     instance, question = load_question(args.instance, metric=args.distance)
     if question is not None and args.routes is None and args.robots is None and args.deadline is None:
@@ -78,7 +81,7 @@ def _solve(args: argparse.Namespace) -> int:
         robots=args.robots,
         deadline=args.deadline,
         method=args.method,
-        time_limit=args.time_limit,
+        time_limit=clock,
         seed=args.seed,
         **options,
     )
@@ -353,7 +356,7 @@ def _build_parser() -> argparse.ArgumentParser:
     question.add_argument("--deadline", type=_float, metavar="C", help="every route within C: minimise the robots")
     p.add_argument("--method", default="exact", help="solution method (see below; default: exact)")
     limits = p.add_argument_group("limits")
-    limits.add_argument("--time-limit", type=_positive_float, metavar="SECONDS", help="time limit of the method")
+    limits.add_argument("--time-limit", type=_positive_float, metavar="SECONDS", help="seconds for the whole solve, reading the instance included")
     limits.add_argument("--seed", type=_seed, default=0, help="seed of randomised methods (default: 0)")
     p.add_argument("--trace", action="store_true", help="print every step of the paper's algorithms")
     p.add_argument("--export-model", metavar="FILE.mps",

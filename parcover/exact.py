@@ -13,15 +13,19 @@ independently. Five methods:
   counting (:mod:`milp.setpart`), an exact method independent of the compact model,
   for up to 16 KPOIs;
 - ``cvxpy``: the compact model written in cvxpy for reading (:mod:`milp.cvx`).
+
+``time_limit`` is seconds from the call or a :class:`~milp.deadline.Deadline` shared
+with the caller (:func:`parcover.solve` passes one); the warm start and the model
+share it.
 """
 
 from __future__ import annotations
 
 import os
-import time
 from collections.abc import Callable
 from typing import Any
 
+from milp.deadline import Deadline, TimeLimit
 from parcover.errors import InputError
 from parcover.instance import Instance
 from parcover.problem import MethodInfo, Problem, Solution
@@ -43,27 +47,34 @@ def exact(
     instance: Instance,
     problem: Problem,
     *,
-    time_limit: float | None = None,
+    time_limit: TimeLimit = None,
     seed: int = 0,
     warm_start: list[list[int]] | None = None,
     export_model: str | None = None,
 ) -> Solution:
-    """Proven optimum within ``time_limit``: :func:`setpart` for small instances, else
-    :func:`branch_and_price`.
+    """Proven optimum within ``time_limit``: :func:`setpart` for small instances,
+    :func:`branch_and_price` up to :data:`milp.branchprice.MAX_KPOIS` KPOIs, else
+    :func:`compact`.
 
     ``info["model"]`` names the one used. Options as :func:`compact` (``warm_start`` is
     only checked by ``setpart``; ``export_model`` always writes the compact model).
     """
+    clock = Deadline.of(time_limit)  # the imports below count against the limit
     from milp import setpart as model
 
     if instance.n > model.MAX_KPOIS:
+        from milp import branchprice  # numba: only when needed
+
+        if instance.n > branchprice.MAX_KPOIS:
+            return compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start,
+                           export_model=export_model)
         if export_model:
             _export(instance, problem, export_model)
-        return branch_and_price(instance, problem, time_limit=time_limit, seed=seed,
+        return branch_and_price(instance, problem, time_limit=clock, seed=seed,
                                 warm_start=warm_start)
     if export_model:
         _export(instance, problem, export_model)
-    solution = _run(model.min_makespan, model.min_robots, instance, problem, time_limit,
+    solution = _run(model.min_makespan, model.min_robots, instance, problem, clock,
                     warm_start=warm_start)
     solution.info["model"] = "setpart"
     return solution
@@ -73,7 +84,7 @@ def compact(
     instance: Instance,
     problem: Problem,
     *,
-    time_limit: float | None = None,
+    time_limit: TimeLimit = None,
     seed: int = 0,
     warm_start: list[list[int]] | None = None,
     export_model: str | None = None,
@@ -84,18 +95,19 @@ def compact(
     heuristic provides one. ``export_model`` writes the model to an ``.mps`` or ``.lp``
     file that any MILP solver can read.
     """
+    clock = Deadline.of(time_limit)  # the import below counts against the limit
     from milp import arcflow
 
     if export_model:
         _export(instance, problem, export_model)
-    return _warm_started(arcflow, "compact", instance, problem, time_limit, seed, warm_start)
+    return _warm_started(arcflow, "compact", instance, problem, clock, seed, warm_start)
 
 
 def branch_and_price(
     instance: Instance,
     problem: Problem,
     *,
-    time_limit: float | None = None,
+    time_limit: TimeLimit = None,
     seed: int = 0,
     warm_start: list[list[int]] | None = None,
 ) -> Solution:
@@ -104,9 +116,18 @@ def branch_and_price(
     The fewest routes within a deadline by column generation with arc branching; the
     least makespan as a sequence of those decisions. ``warm_start`` as :func:`compact`.
     """
+    clock = Deadline.of(time_limit)  # the import below counts against the limit
     from milp import branchprice
 
-    return _warm_started(branchprice, "branchprice", instance, problem, time_limit, seed, warm_start)
+    _check_size(instance, branchprice.MAX_KPOIS, "branchprice")
+    return _warm_started(branchprice, "branchprice", instance, problem, clock, seed, warm_start)
+
+
+def _check_size(instance: Instance, most: int, method: str) -> None:
+    """Refuse an instance above a method's size limit with one line."""
+    if instance.n > most:
+        raise InputError(f"Method {method!r} handles at most {most} KPOIs, this instance has {instance.n}; "
+                         "use exact or compact.")
 
 
 def _warm_started(
@@ -114,17 +135,16 @@ def _warm_started(
     name: str,
     instance: Instance,
     problem: Problem,
-    time_limit: float | None,
+    time_limit: TimeLimit,
     seed: int,
     warm_start: list[list[int]] | None,
 ) -> Solution:
     """Run ``model.min_makespan`` / ``model.min_robots`` from ``warm_start`` or, without
     one, from the ``best`` heuristic's routes; the heuristic's time counts against
     ``time_limit``. ``info["model"]`` is ``name``."""
-    began = time.perf_counter()
-    start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
-    left = None if time_limit is None else max(time_limit - (time.perf_counter() - began), 0.0)
-    solution = _run(model.min_makespan, model.min_robots, instance, problem, left,
+    clock = Deadline.of(time_limit)
+    start = warm_start or warm_start_routes(instance, problem, clock, seed)
+    solution = _run(model.min_makespan, model.min_robots, instance, problem, clock,
                     warm_start=start)
     solution.info["model"] = name
     return solution
@@ -152,16 +172,17 @@ def _export(instance: Instance, problem: Problem, path: str) -> None:
 
 
 def setpart(
-    instance: Instance, problem: Problem, *, time_limit: float | None = None, seed: int = 0
+    instance: Instance, problem: Problem, *, time_limit: TimeLimit = None, seed: int = 0
 ) -> Solution:
     """Proven optimum by set partitioning over every subset's cheapest route (n <= 16)."""
     from milp import setpart as model
 
+    _check_size(instance, model.MAX_KPOIS, "setpart")
     return _run(model.min_makespan, model.min_robots, instance, problem, time_limit)
 
 
 def cvxpy_model(
-    instance: Instance, problem: Problem, *, time_limit: float | None = None, seed: int = 0
+    instance: Instance, problem: Problem, *, time_limit: TimeLimit = None, seed: int = 0
 ) -> Solution:
     """Proven optimum of the compact model as written in cvxpy (for reading)."""
     from milp import cvx
@@ -170,15 +191,16 @@ def cvxpy_model(
 
 
 def warm_start_routes(
-    instance: Instance, problem: Problem, time_limit: float | None, seed: int
+    instance: Instance, problem: Problem, time_limit: TimeLimit, seed: int
 ) -> list[list[int]] | None:
-    """Routes from the ``best`` heuristic when it is available, else ``None``."""
+    """Routes from the ``best`` heuristic when it is available, else ``None``; it gets
+    :data:`WARM_SHARE` of what is left of ``time_limit``."""
     from parcover.solve import available_methods
 
     methods = available_methods()
     if "best" not in methods:
         return None
-    budget = None if time_limit is None else WARM_SHARE * time_limit
+    budget = Deadline.of(time_limit).fraction(WARM_SHARE)
     solution = methods["best"].function(
         instance, problem, time_limit=budget, seed=seed, iterations=WARM_ROUNDS[problem.objective]
     )
@@ -190,9 +212,12 @@ def _run(
     min_robots: Callable[..., Any],
     instance: Instance,
     problem: Problem,
-    time_limit: float | None,
+    time_limit: TimeLimit,
     **kwargs: Any,
 ) -> Solution:
+    """Run a model's ``min_makespan`` or ``min_robots`` on ``problem`` with what is left
+    of ``time_limit`` (the models take seconds) and map its answer to a Solution."""
+    time_limit = Deadline.of(time_limit).remaining()
     d = instance.distances
     if problem.objective == "makespan":
         answer = min_makespan(d, problem.robots, tours=problem.tours, time_limit=time_limit, **kwargs)

@@ -156,6 +156,8 @@ class Result:
                 f"robots    {self.robots}",
                 f"makespan  {_num(self.makespan)}",
             ]
+        if not self.routes and self.info.get("message"):
+            lines.append(f"note      {self.info['message']}")
         bound = _num(self.bound) if self.bound is not None else "-"
         gap_text = f"{100 * self.gap:.4g}%" if self.gap is not None else "-"
         lines.append(f"bound     {bound}   gap {gap_text}")

@@ -372,7 +372,10 @@ def _mst_preorder(d: np.ndarray) -> tuple[list[int], list[bool]]:
     best[0] = np.inf
     children: list[list[int]] = [[] for _ in range(size)]
     for _ in range(size - 1):
-        v = int(np.argmin(best))
+        # the nearest node outside the tree (by index among those, not np.argmin(best):
+        # with infinite distances every entry ties and index 0 would join again)
+        outside = np.flatnonzero(~in_tree)
+        v = int(outside[np.argmin(best[outside])])
         in_tree[v] = True
         children[int(parent[v])].append(v)
         best[v] = np.inf

@@ -28,6 +28,7 @@ dummy end at distance 0 from everything (paths), so both route kinds share every
 
 from __future__ import annotations
 
+import functools
 import math
 import random
 import time
@@ -36,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from milp.deadline import Deadline, TimeLimit
 from parcover import exact
 from parcover.bounds import robots_lower_bound
 from parcover.instance import Instance
@@ -51,6 +53,8 @@ DEFAULT_ITERATIONS = 30
 #: Methods that are not constructions: ourselves, the trivial one and every exact method.
 _NOT_STARTS = frozenset({"best", "trivial", *(method.name for method in exact.METHODS)})
 _CONSTRUCTION_SHARE = 0.025  # of the time limit, for each construction
+_CONSTRUCTIONS_SHARE = 0.5  # of the time limit: no construction starts after it
+_INSERTION_SECONDS = 1.5e-6  # min_max_insertion per KPOI pair (1.3 s at 1000 KPOIs, measured)
 _ROBOTS_SHARE = 0.4  # of the time limit, robots objective: the rest goes to fewer_robots
 _CHAIN = 3  # longest chain of KPOIs moved by or-opt / relocate
 _GRANULARITY = 20  # relocate tries slots next to this many nearest KPOIs
@@ -68,7 +72,7 @@ def best(
     instance: Instance,
     problem: Problem,
     *,
-    time_limit: float | None = None,
+    time_limit: TimeLimit = None,
     seed: int = 0,
     iterations: int | None = None,
 ) -> Solution:
@@ -79,7 +83,8 @@ def best(
     instance, problem
         The question; both objectives and both route kinds.
     time_limit
-        Seconds for the whole run. Results then may depend on the machine's speed.
+        Seconds for the whole run, or a :class:`~milp.deadline.Deadline` shared with
+        the caller. Results then may depend on the machine's speed.
     seed
         Seed of the ruin-and-recreate rounds (and of the constructions).
     iterations
@@ -94,6 +99,7 @@ def best(
         started from), ``start_value`` and ``value`` (the objective key: makespan and
         total length, or robots, makespan and total length) and ``iterations``.
     """
+    time_limit = Deadline.of(time_limit).remaining()
     started = time.perf_counter()
     deadline = problem.effective_deadline(instance)
     if deadline is not None and not meets_deadline(problem.least_makespan(instance), deadline):
@@ -159,26 +165,34 @@ def best_construction(
     """The valid construction with the least objective key (name, routes).
 
     Every registered method except ``best``, ``trivial`` and the exact ones is tried
-    (each gets :data:`_CONSTRUCTION_SHARE` of the time limit, so that most of it is
-    left to the search); one that raises or answers invalid routes
-    is skipped. :func:`min_max_insertion` always takes part. Ties go to the
-    construction listed first (registry order, then ours).
+    (each gets :data:`_CONSTRUCTION_SHARE` of the time limit), then
+    :func:`min_max_insertion`. Most constructions cannot be interrupted and some take
+    a second at 1000 KPOIs, so under a time limit none starts once
+    :data:`_CONSTRUCTIONS_SHARE` of it has passed, and ours (O(n^2)) only when its
+    expected time (:data:`_INSERTION_SECONDS`) fits or nothing else answered. One that
+    raises or answers invalid routes is skipped. Ties go to the construction listed
+    first (registry order, then ours).
     """
     from parcover.solve import available_methods  # solve imports this module
 
+    stop = None if time_limit is None else time.perf_counter() + _CONSTRUCTIONS_SHARE * time_limit
     search = _Search(instance, problem)
     candidates: list[tuple[str, list[list[int]]]] = []
     share = None if time_limit is None else time_limit * _CONSTRUCTION_SHARE
     for name, info in available_methods().items():
         if name in _NOT_STARTS:
             continue
+        if stop is not None and time.perf_counter() >= stop:
+            break
         try:
             solution = info.function(instance, problem, time_limit=share, seed=seed)
         except Exception:  # a failing construction must not break `best`
             continue
         if not solution.drops_deadline and search.valid(solution.routes):
             candidates.append((name, [list(map(int, r)) for r in solution.routes if r]))
-    candidates.append(("min_max_insertion", min_max_insertion(instance, problem)))
+    ours_ends = time.perf_counter() + _INSERTION_SECONDS * instance.n**2
+    if stop is None or ours_ends <= stop or not candidates:
+        candidates.append(("min_max_insertion", min_max_insertion(instance, problem)))
     return min(candidates, key=lambda c: search.key(search.sequences(c[1])))
 
 
@@ -297,10 +311,20 @@ class _Search:
         self.tol = 1e-9 * max(1.0, float(matrix.max()))
         self.robots = problem.robots
         self.deadline = problem.effective_deadline(instance)
-        self.neighbours = np.argsort(matrix[1 : n + 1, 1 : n + 1], axis=1, kind="stable") + 1
-        # near[v]: the KPOIs nearest v (nearest first), as Python ints for the hot loops
-        self.near: list[list[int]] = [[], *self.neighbours[:, :_GRANULARITY].tolist()]
+        self.matrix = matrix
         self.stop = stop
+
+    @functools.cached_property
+    def neighbours(self) -> np.ndarray:
+        """Row ``v - 1``: every KPOI by distance from KPOI ``v`` (computed when first
+        needed: O(n^2 log n), a fifth of a second at 1000 KPOIs)."""
+        n = self.n
+        return np.argsort(self.matrix[1 : n + 1, 1 : n + 1], axis=1, kind="stable") + 1
+
+    @functools.cached_property
+    def near(self) -> list[list[int]]:
+        """``near[v]``: the KPOIs nearest v (nearest first), as Python ints for the hot loops."""
+        return [[], *self.neighbours[:, :_GRANULARITY].tolist()]
 
     # ----- bookkeeping -------------------------------------------------------------
 
@@ -375,7 +399,7 @@ class _Search:
     def two_opt(self, s: list[int]) -> bool:
         """Reverse ``s[i..j]`` while that shortens the route (best move each time)."""
         d, changed = self.d, False
-        while True:
+        while not self.out_of_time():
             top, gain = None, self.tol
             for i in range(1, len(s) - 2):
                 a, b = s[i - 1], s[i]
@@ -390,12 +414,13 @@ class _Search:
             i, j = top
             s[i : j + 1] = s[i : j + 1][::-1]
             changed = True
+        return changed
 
     def or_opt(self, s: list[int]) -> bool:
         """Move a chain of 1-3 KPOIs (maybe reversed) elsewhere in its route."""
         d, changed = self.d, False
         i = 1
-        while i < len(s) - 1:
+        while i < len(s) - 1 and not self.out_of_time():
             moved = False
             for length in range(1, _CHAIN + 1):
                 if i + length > len(s) - 1:
@@ -433,7 +458,7 @@ class _Search:
         where = self.positions(seqs)
         for a in range(len(seqs)):
             i = 1
-            while i < len(seqs[a]) - 1:
+            while i < len(seqs[a]) - 1 and not self.out_of_time():
                 sa = seqs[a]
                 top, top_key = None, None
                 for length in range(1, _CHAIN + 1):
@@ -512,6 +537,8 @@ class _Search:
                     continue
                 sa, sb = seqs[a], seqs[b]
                 for i in range(1, len(sa) - 1):
+                    if self.out_of_time():
+                        return
                     ca, cb = costs[a], costs[b]
                     old, total = max(ca, cb), ca + cb
                     p, x, q = sa[i - 1], sa[i], sa[i + 1]
@@ -541,7 +568,7 @@ class _Search:
             for b in range(a + 1, len(seqs)):
                 if not ({a, b} & active or {a, b} & changed):
                     continue
-                while True:
+                while not self.out_of_time():
                     sa, sb = seqs[a], seqs[b]
                     pa, ta = self.prefix_suffix(sa)
                     pb, tb = self.prefix_suffix(sb)
