@@ -207,10 +207,14 @@ def false_claims(fields: Mapping[str, Any], costs: list[float], robots: int) -> 
             value = makespan
             if fields.get("robots_limit") is None:
                 out.append("objective 'makespan' without a robots_limit")
+            if fields.get("deadline") is not None:
+                out.append("objective 'makespan' with a deadline (that is a robots answer)")
         elif objective == "robots":
             value = float(robots)
-            if fields.get("deadline") is None:
-                out.append("objective 'robots' without a deadline")
+            # A robots answer may have no deadline (the paper's Algorithm 2 for tours has
+            # none); a robots_limit marks a makespan answer.
+            if fields.get("robots_limit") is not None:
+                out.append("objective 'robots' with a robots_limit (that is a makespan answer)")
         else:
             out.append(f"objective {_short(objective)} is neither 'makespan' nor 'robots'")
     status = fields.get("status")

@@ -58,7 +58,7 @@ TAMPERED = [
     ("bound above", lambda d: d.update(bound=d["makespan"] * 1.5, gap=0.0), "is above the value"),
     ("negative gap", lambda d: d.update(gap=-0.5), "gap claims -0.5"),
     ("infeasible with routes", lambda d: d.update(status="infeasible"), "status 'infeasible' with routes"),
-    ("objective robots", lambda d: d.update(objective="robots"), "objective 'robots' without a deadline"),
+    ("objective robots", lambda d: d.update(objective="robots"), "objective 'robots' with a robots_limit"),
     ("no robots_limit", lambda d: d.pop("robots_limit"), "objective 'makespan' without a robots_limit"),
     ("optimal below", lambda d: d.update(status="optimal"), "status 'optimal' with bound"),
 ]
@@ -123,3 +123,43 @@ def test_certify_says_when_it_cannot_decide(capsys, files, monkeypatch):
     monkeypatch.setattr(solve_module, "solve", lambda *a, **k: real(*a, **{**k, "method": "nn"}))
     code, out = run_verify(capsys, files, genuine(files, "exact"), "--certify")
     assert code == 3 and out.splitlines()[-1].startswith("undecided:"), out
+
+
+def _solve_into(files, name: str, *args: str) -> dict:
+    path = files["instance"].parent / f"{name}.json"
+    assert main(["solve", str(files["instance"]), *args, "--json", "--out", str(path)]) == 0
+    return json.loads(path.read_text())
+
+
+@pytest.mark.parametrize("args", [["--method", "paper"], ["--routes", "tours", "--method", "paper"],
+                                  ["--deadline", "1000"], ["--routes", "tours", "--deadline", "1"]])
+def test_genuine_robots_and_infeasible_answers_are_valid(capsys, files, args):
+    """The paper's Algorithm 2 answers a robots question without a deadline, and an
+    infeasible answer (a deadline of 1 is below c_max, about 70 here) has no routes: both genuine."""
+    answer = _solve_into(files, "answer", *args)
+    code, out = run_verify(capsys, files, answer)
+    assert code == 0 and out.startswith("valid:"), out
+
+
+def test_a_deadline_on_a_makespan_answer_is_a_false_objective(capsys, files):
+    code, out = run_verify(capsys, files, {**genuine(files), "deadline": 1000.0})
+    assert code == 1 and "objective 'makespan' with a deadline" in out
+
+
+def test_certify_confirms_a_genuine_infeasible_answer(capsys, files):
+    answer = _solve_into(files, "infeasible", "--deadline", "1")
+    assert answer["status"] == "infeasible" and answer["routes"] == []
+    code, out = run_verify(capsys, files, answer, "--certify")
+    assert code == 0 and "certified" in out, out
+
+
+def test_certify_refutes_a_false_infeasible_claim_without_routes(capsys, files):
+    """A feasible question (deadline 1000: one path of 8 legs, each at most the largest
+    distance, about 97 here, meets it) with its routes removed and 'infeasible' claimed."""
+    answer = _solve_into(files, "feasible", "--deadline", "1000")
+    assert answer["status"] in ("optimal", "feasible")
+    claimed = {**answer, "status": "infeasible", "routes": [], "route_costs": [], "makespan": None,
+               "robots": None, "bound": None, "gap": None}
+    assert run_verify(capsys, files, claimed)[0] == 0  # nothing to recompute without routes
+    code, out = run_verify(capsys, files, claimed, "--certify")
+    assert code == 1 and "claimed infeasible" in out, out
