@@ -240,6 +240,15 @@ def _props_check(args: argparse.Namespace) -> int:
     return 0 if refuted else 1
 
 
+def _worst(args: argparse.Namespace) -> int:
+    from parcover.worst import report
+
+    report(budget=args.budget, seed=args.seed, out_dir=args.out_dir, report_path=args.report,
+           command=args.command_line)
+    print(f"wrote {args.report}")
+    return 0
+
+
 def _whole(text: str, flag: str) -> int:
     try:
         return int(text)
@@ -465,6 +474,14 @@ def _build_parser() -> argparse.ArgumentParser:
                    help="instead, ask each counterexample file's question again with its greedy and an exact method; "
                    "exit 0 when every file still refutes its claim, 1 when one does not")
     p.set_defaults(run=_props)
+
+    p = commands.add_parser("worst", help="adversarial search for the greedy's worst ratio to the optimum")
+    p.add_argument("--budget", type=_positive_float, default=5.0, metavar="SECONDS",
+                   help="seconds of search per claim and reading (default: 5)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the search (default: 0)")
+    p.add_argument("--out-dir", default="instances/worst", metavar="DIR", help="where the worst instances go")
+    p.add_argument("--report", default="reports/worst.md", metavar="FILE.md", help="the report")
+    p.set_defaults(run=_worst)
 
     p = commands.add_parser("generate", help="write a generated instance file")
     kinds = p.add_subparsers(dest="kind", metavar="KIND", required=True)
