@@ -43,7 +43,6 @@ the question asked, the greedy's and the optimum's values), so that
 
 from __future__ import annotations
 
-import json
 import math
 import random
 import time
@@ -66,7 +65,6 @@ __all__ = [
     "score",
     "targets",
     "search",
-    "question_block",
     "save_worst",
 ]
 
@@ -172,44 +170,16 @@ def score(instance: Instance, target: Target, exact: str = EXACT) -> Score:
     return Score(greedy, optimum, target.objective)
 
 
-def question_block(instance: Instance, target: Target, found: Score) -> dict[str, Any]:
-    """The ``"question"`` block of an instance file: the claim it refutes and both answers.
-
-    ``deadline`` is the deadline asked (``factor x c_max`` for paths, the greedy's
-    makespan for ``alg2-robots``), ``robots`` the robot limit (``alg2-makespan``).
-    """
-    if target.claim == "alg2-robots":
-        deadline: float | None = found.greedy.makespan
-    elif target.factor is not None:
-        deadline = target.factor * instance.c_max
-    else:
-        deadline = None
-    return {
-        "claim": target.id,
-        "routes": target.routes,
-        "objective": target.objective,
-        "deadline": deadline,
-        "deadline_factor": target.factor,
-        "robots": found.greedy.robots if target.claim == "alg2-makespan" else None,
-        "method": target.method,
-        "reading": READINGS[target.method],
-        "greedy": {"robots": found.greedy.robots, "makespan": found.greedy.makespan},
-        "optimum": {"robots": found.optimum.robots, "makespan": found.optimum.makespan,
-                    "status": found.optimum.status.value, "method": found.optimum.method},
-    }
-
-
 def save_worst(instance: Instance, target: Target, found: Score, path: str | Path) -> Path:
-    """Write the instance JSON (design.md section 2) with its ``"question"`` block."""
-    from parcover.io import _readable_json, instance_to_dict
+    """Write the instance JSON (design.md section 2) with its ``"question"`` block
+    (:class:`parcover.question.Question`, as ``props`` writes its counterexamples)."""
+    from parcover.io import write_instance
+    from parcover.question import Question
 
-    data = instance_to_dict(instance)
-    data["question"] = question_block(instance, target, found)
-    text = _readable_json(data)
-    json.loads(text)  # the writer's own output must parse
+    question = Question.from_results(target.id, found.greedy, found.optimum, deadline_factor=target.factor)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(text, encoding="utf-8")
+    write_instance(instance, path, question=question)
     return path
 
 
@@ -505,6 +475,38 @@ def prop2_rows(count: int, seed: int = 0) -> list[tuple[int, int, int]]:
     return rows
 
 
+def plot_ratios(founds: Sequence[Found], family: Sequence[tuple[int, int, int, str]], path: Path) -> Path:
+    """Worst ratio against n: per claim from the search, and the halving line family."""
+    import math
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
+    by_claim: dict[str, dict[int, float]] = {}
+    for found in founds:
+        worst = by_claim.setdefault(found.target.claim, {})
+        for n, ratio in found.by_n.items():
+            worst[n] = max(worst.get(n, 1.0), ratio)
+    for claim, worst in by_claim.items():
+        ns = sorted(worst)
+        left.plot(ns, [worst[n] for n in ns], marker="o", label=claim)
+    left.set(xlabel="KPOIs n", ylabel="worst greedy / optimum seen", title="adversarial search")
+    left.legend(fontsize=8)
+    ns = [n for n, *_ in family]
+    right.plot(ns, [mine / best for _, mine, best, _ in family], marker="o", label="paper (proven optima)")
+    right.plot(ns, [(1 + math.log2(n)) / 2 for n in ns], linestyle="--", label="(1 + log2 n) / 2")
+    right.set(xscale="log", xlabel="KPOIs n", ylabel="greedy / optimum", title="halving line, Alg. 1")
+    right.legend(fontsize=8)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
 def report(*, budget: float, seed: int, out_dir: str | Path, report_path: str | Path, command: str) -> str:
     """Run the search on every target, the family and Prop. 2's bound; write the report."""
     import platform
@@ -516,8 +518,10 @@ def report(*, budget: float, seed: int, out_dir: str | Path, report_path: str | 
              f"{budget:g} s of search per claim and reading, seed {seed}. Optima by `setpart` (proven).", "",
              "## Worst ratios found (greedy / optimum)", "",
              "| claim | reading | ratio | greedy | optimum | KPOIs | space | file |", "|---|---|---|---|---|---|---|---|"]
+    founds = []
     for target in tqdm(targets(), desc="worst", unit="target"):
         found = search(target, budget=budget, seed=seed)
+        founds.append(found)
         assert found.instance is not None and found.score is not None
         path = save_worst(found.instance, target, found.score, Path(out_dir) / f"{target.id}.json")
         mine, best = found.score.values
@@ -531,8 +535,13 @@ def report(*, budget: float, seed: int, out_dir: str | Path, report_path: str | 
               "left, and Alg. 1 (`paper`) needs 1 + ~log2 L robots. The ratio grows without bound, "
               "as (1 + log2 n) / 2. `paper-1-1-end` is the same run at c_max; `paper-5d-end` and `paper-nearest-end` grow from the end and sweep the line in one path.", "",
               "| n | greedy (paper) | optimum | status | ratio |", "|---|---|---|---|---|"]
-    for n, mine, best, status in family_rows([3, 7, 15, 31, 63]):
+    family = family_rows([3, 7, 15, 31, 63])
+    for n, mine, best, status in family:
         lines.append(f"| {n} | {mine} | {best} | {status} | {mine / best:.2f} |")
+    figure = plot_ratios(founds, family, Path(report_path).with_suffix("") / "ratio_vs_n.png")
+    lines += ["", f"![worst ratio against n]({Path(report_path).stem}/{figure.name})", "",
+              "Left: the worst ratio the search saw at each KPOI count, per claim (the largest over "
+              "the readings). Right: the halving line, proven optima, against (1 + log2 n) / 2."]
     rows = prop2_rows(100, seed)
     tight = sum(best == upper for _, best, upper in rows)
     gaps = [upper - best for _, best, upper in rows]
