@@ -326,23 +326,26 @@ def _n30_target(frame: pd.DataFrame) -> str:
 def _n40_target(frame: pd.DataFrame) -> str:
     """n = 40, k = 5, paths and tours, proven within 60 s."""
     cells = frame[(frame["n"] == 40) & (frame["problem"] == "makespan k=5") & (frame["model"] == ours(40))]
-    if cells.empty:
-        return "exact: n = 40, k = 5 proven within 60 s: not measured"
-    fast = cells[(cells["status"] == "optimal") & (cells["seconds"] <= 60)]
-    parts = [f"{r.routes} seed {r.seed}: {_outcome(r)}" for r in cells.itertuples()]
-    verdict = "met" if len(fast) == len(cells) else f"not met ({len(fast)}/{len(cells)} cells)"
-    return f"exact: n = 40, k = 5 proven within 60 s: {verdict}: {'; '.join(parts)}"
+    return _cells_target(cells, "n = 40, k = 5 proven within 60 s", 60,
+                         lambda r: f"{r.routes} seed {r.seed}")
 
 
 def _robots50_target(frame: pd.DataFrame) -> str:
     """Fewest robots for n = 50 within 10 s, on every n = 50 robots cell."""
     cells = frame[(frame["n"] == 50) & frame["problem"].str.startswith("robots") & (frame["model"] == ours(50))]
+    return _cells_target(cells, "fewest robots for n = 50 within 10 s", 10,
+                         lambda r: f"{r.routes} {r.problem.removeprefix('robots ')} seed {r.seed}")
+
+
+def _cells_target(cells: pd.DataFrame, title: str, seconds: float, label) -> str:
+    """``exact: TITLE: met`` when every cell is proven within ``seconds``, else how many
+    were, then each cell's outcome."""
     if cells.empty:
-        return "exact: fewest robots for n = 50 within 10 s: not measured"
-    fast = cells[(cells["status"] == "optimal") & (cells["seconds"] <= 10)]
-    parts = [f"{r.routes} {r.problem.removeprefix('robots ')} seed {r.seed}: {_outcome(r)}" for r in cells.itertuples()]
+        return f"exact: {title}: not measured"
+    fast = cells[(cells["status"] == "optimal") & (cells["seconds"] <= seconds)]
+    parts = [f"{label(r)}: {_outcome(r)}" for r in cells.itertuples()]
     verdict = "met" if len(fast) == len(cells) else f"not met ({len(fast)}/{len(cells)} cells)"
-    return f"exact: fewest robots for n = 50 within 10 s: {verdict}: {'; '.join(parts)}"
+    return f"exact: {title}: {verdict}: {'; '.join(parts)}"
 
 
 def _outcome(row) -> str:
