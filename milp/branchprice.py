@@ -83,7 +83,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import highspy
 import numpy as np
@@ -92,11 +92,13 @@ from scipy import sparse
 
 from milp.bounds import makespan_lower_bound as tree_makespan_bound
 from milp.bounds import robots_lower_bound as tree_robots_bound
-from milp.highs import make_lp, new_highs, solve_lp
-from milp.merge import Merged, merge_zero_distances
 from milp import ngroute
+from milp.colgen import fewest_covering
+from milp.highs import make_lp, new_highs
+from milp.merge import Merged, merge_zero_distances
 from milp.result import MilpResult, relative_gap
-from milp.routes import check_distance_matrix, least_makespan, makespan, route_cost, within
+from milp.routes import check_distance_matrix, first_visits, least_makespan, makespan, route_cost, within
+from milp.warmstart import nearest_neighbour_order, split_min_makespan
 
 __all__ = ["min_robots", "min_makespan", "MAX_KPOIS"]
 
@@ -227,7 +229,6 @@ class _Search:
     """Column generation and branching over one pool (merged matrix, route kind)."""
 
     def __init__(self, D: np.ndarray, *, tours: bool, stop_at: float | None) -> None:
-        self.D = D
         self.m = len(D) - 1
         self.tours = tours
         self.pricing = ngroute.Pricing(D, tours=tours, ng_size=ngroute.NG_SIZE)
@@ -258,7 +259,6 @@ class _Search:
     def _master(self, columns: list[int]) -> highspy.Highs:
         """The LP (1)-(2) over ``columns`` of the pool, with the subset-row cuts (5)."""
         h = new_highs(None)
-        h.setOptionValue("time_limit", 1e9)
         cuts = len(self.cuts)
         lp = make_lp(np.ones(len(columns)), (np.zeros(len(columns)), np.full(len(columns), np.inf)),
                      self._matrix(columns),
@@ -438,7 +438,7 @@ class _Search:
         chosen = [c for c, v in zip(outcome.columns, outcome.x) if v > INTEGRAL]
         if any(abs(outcome.x[i] - 1) > INTEGRAL for i, v in enumerate(outcome.x) if v > INTEGRAL):
             return None
-        return _shortcut([self.pool.orders[c] for c in chosen])
+        return first_visits([self.pool.orders[c] for c in chosen])
 
     def fractional_arc(self, outcome: _LpOutcome) -> tuple[int, int] | None:
         """The arc whose flow is closest to 1/2 (``(i, 0)``: ending at ``i``).
@@ -466,14 +466,8 @@ class _Search:
 
     def integer_master(self, budget: float, time_limit: float | None) -> list[list[int]] | None:
         """Set covering (1)-(3) over every pooled column within ``budget`` (HiGHS MIP)."""
-        columns = np.flatnonzero(self.pool.lengths <= budget).tolist()
-        n = len(columns)
-        lp = make_lp(np.ones(n), (np.zeros(n), np.ones(n)), self._coverage(columns),
-                     (np.ones(self.m), np.full(self.m, np.inf)), np.ones(n, dtype=bool))
-        solve = solve_lp(lp, time_limit=time_limit)
-        if solve.values is None:
-            return None
-        return _shortcut([self.pool.orders[columns[i]] for i in np.flatnonzero(solve.values > 0.5)])
+        orders = [self.pool.orders[c] for c in np.flatnonzero(self.pool.lengths <= budget)]
+        return fewest_covering(orders, self.m, time_limit)
 
     def fewest_routes(self, budget: float, incumbent: list[list[int]] | None, target: int,
                       *, first: bool) -> tuple[list[list[int]] | None, int | None, str]:
@@ -575,17 +569,6 @@ def _cut_memory(triple: tuple[int, int, int], routes: list[np.ndarray]) -> set[i
 
 def _count(routes: list[list[int]] | None) -> float:
     return math.inf if routes is None else len(routes)
-
-
-def _shortcut(orders: list[np.ndarray]) -> list[list[int]]:
-    """Routes visiting each KPOI once: the first visit in the order given is kept."""
-    seen: set[int] = set()
-    routes = []
-    for order in orders:
-        route = [int(i) for i in order if not (int(i) in seen or seen.add(int(i)))]
-        if route:
-            routes.append(route)
-    return routes
 
 
 def _prepare(D: np.ndarray) -> tuple[np.ndarray, Merged]:
@@ -700,7 +683,7 @@ def min_makespan(
     lower = max(least_makespan(D, tours=tours), tree_makespan_bound(merged.D, k, tours=tours))
     routes = _checked_start(merged, D, warm_start, tours=tours, deadline=None, k=k)
     if routes is None:
-        routes = _nearest_split(merged.D, k, tours=tours)
+        routes = split_min_makespan(merged.D, nearest_neighbour_order(merged.D), k, tours=tours)
     value = makespan(merged.D, routes, tours=tours)
     search = _Search(merged.D, tours=tours, stop_at=stop_at)
     if value <= lower * (1 + 1e-9):
@@ -741,17 +724,3 @@ def _bisect_lp_bound(search: _Search, k: int, lower: float, upper: float) -> flo
         else:
             upper = mid
     return lower
-
-
-def _nearest_split(D: np.ndarray, k: int, *, tours: bool) -> list[list[int]]:
-    """A valid start when the caller gives none: the KPOIs in nearest-neighbour order,
-    cut into ``min(k, m)`` consecutive routes of similar length."""
-    m = len(D) - 1
-    order, here, left = [], 0, set(range(1, m + 1))
-    while left:
-        here = min(left, key=lambda j: D[here, j])
-        order.append(here)
-        left.remove(here)
-    parts = min(k, m)
-    size = math.ceil(m / parts)
-    return [order[i:i + size] for i in range(0, m, size)]

@@ -90,7 +90,7 @@ from milp.deadline import Deadline, TimeLimit
 from milp.bounds import robots_lower_bound as tree_robots_bound
 from milp.highs import make_lp, new_highs, solve_lp
 from milp.merge import merge_zero_distances
-from milp.routes import check_distance_matrix, least_makespan, route_cost, within
+from milp.routes import check_distance_matrix, first_visits, least_makespan, route_cost, within
 
 #: Grid steps over the upper bound: :math:`\delta = \text{upper} / \text{GRID}`.
 GRID = 1000
@@ -501,9 +501,15 @@ def master_routes(master: _Master, D: np.ndarray, deadline: float, *, tours: boo
     integer solution was found in time.
     """
     orders = [o for o in master.orders if within(route_cost(D, list(o), tours=tours), deadline)]
-    n = master.n
+    return fewest_covering(orders, master.n, time_limit) or []
+
+
+def fewest_covering(orders: list[np.ndarray], n: int, time_limit: float | None) -> list[list[int]] | None:
+    """The fewest of ``orders`` (KPOI sequences over ``1..n``) covering every KPOI: the
+    set-covering integer program in HiGHS within ``time_limit``, the chosen routes made a
+    partition by :func:`milp.routes.first_visits`. None when no covering was found in time."""
     if not orders:
-        return []
+        return None
     rows = np.concatenate(orders) - 1
     cols = np.repeat(np.arange(len(orders)), [len(o) for o in orders])
     matrix = sparse.csc_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, len(orders)))
@@ -512,15 +518,8 @@ def master_routes(master: _Master, D: np.ndarray, deadline: float, *, tours: boo
                  np.ones(len(orders), dtype=bool))
     solve = solve_lp(lp, time_limit=time_limit)
     if solve.values is None:
-        return []
-    covered: set[int] = set()
-    routes = []
-    for c in np.flatnonzero(solve.values > 0.5):
-        route = [int(i) for i in orders[c] if int(i) not in covered]
-        covered.update(route)
-        if route:
-            routes.append(route)
-    return routes
+        return None
+    return first_visits([orders[c] for c in np.flatnonzero(solve.values > 0.5)])
 
 
 def robots_lower_bound(

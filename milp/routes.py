@@ -69,3 +69,20 @@ def check_routes(routes: list[list[int]], n: int) -> list[list[int]]:
     if visited != list(range(1, n + 1)):
         raise ValueError("routes must visit every KPOI 1..n exactly once")
     return clean
+
+
+def first_visits(orders: list) -> list[list[int]]:
+    """Routes visiting each KPOI once: of repeated visits (within or across the given
+    orders) the first is kept, empty routes dropped. By the triangle inequality no route
+    gets longer, so a covering becomes a partition with no more routes."""
+    seen: set[int] = set()
+    routes = []
+    for order in orders:
+        route = []
+        for i in order:
+            if int(i) not in seen:
+                seen.add(int(i))
+                route.append(int(i))
+        if route:
+            routes.append(route)
+    return routes

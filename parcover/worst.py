@@ -49,7 +49,6 @@ import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 from parcover.errors import InputError
 from parcover.instance import Instance
@@ -513,7 +512,7 @@ def report(*, budget: float, seed: int, out_dir: str | Path, report_path: str | 
 
     from tqdm import tqdm
 
-    lines = [f"# How bad can the paper's greedy get?", "", "Regenerate with:", "", f"    {command}", "",
+    lines = ["# How bad can the paper's greedy get?", "", "Regenerate with:", "", f"    {command}", "",
              f"Machine: {platform.machine()}, {platform.system()}, Python {platform.python_version()}; "
              f"{budget:g} s of search per claim and reading, seed {seed}. Optima by `setpart` (proven).", "",
              "## Worst ratios found (greedy / optimum)", "",
