@@ -51,6 +51,14 @@ completion, elementary or not. The grid needs :math:`d'_{ij} \ge 1` for all arcs
 zero-length cycles), i.e. :math:`\delta` at most the smallest distance; when that would
 need more than ``MAX_GRID`` steps, no completion bound is used (still exact, slower).
 
+Subset-row cuts
+---------------
+With cuts (:func:`cut_coefficients`) a label also carries one parity bit per cut; a
+visit to a cut's triple with the bit set costs the cut's dual, and ``e`` dominates ``f``
+only if :math:`p_e` minus the duals of the cuts where ``e``'s bit is set and ``f``'s is
+not is still at least :math:`p_f` (Jepsen et al. 2008). The completion bound ignores the
+cuts, which only lower prizes, so it stays an upper bound.
+
 Heuristic pricing
 -----------------
 With ``exact=False`` dominance ignores the memories (a label with a shorter length and
