@@ -83,8 +83,8 @@ __all__ = ["Pricing", "PricingResult", "cut_coefficients", "ng_memories", "NG_SI
 NG_SIZE = 16
 #: Most grid steps of the completion bound.
 MAX_GRID = 4000
-#: The labelling reads the clock after this many labels and dominance tests.
-CLOCK_EVERY = 200_000
+#: The labelling reads the clock after this much work (labels, dominance tests, candidates).
+CLOCK_EVERY = 20_000
 
 
 @dataclass
@@ -101,7 +101,7 @@ class PricingResult:
     exact : bool
         Whether ``best`` is certified (exact dominance and the label limit not reached).
     work : int
-        Labels created plus dominance tests made (what ``max_work`` caps).
+        Labels created, dominance tests made and extension candidates looked at.
     """
 
     best: float
@@ -180,7 +180,7 @@ class Pricing:
             At most this many routes, the most valuable first.
         stop_at : float
             A ``time.perf_counter()`` value: the labelling stops there (checked every
-            :data:`CLOCK_EVERY` labels and dominance tests), and ``best`` is then not
+            :data:`CLOCK_EVERY` units of work), and ``best`` is then not
             certified.
         cuts : numpy.ndarray, optional
             ``(m+1,)`` ``uint64``: bit ``t`` of ``cuts[j]`` is set when KPOI ``j`` is in the
@@ -203,7 +203,9 @@ class Pricing:
             delta, G = grid
             dd = np.floor(self.D / delta).astype(np.int64)
             back = np.floor(self.back / delta).astype(np.int64)
-            table = _completion_table(dd, back, prize, allowed, can_end, G)
+            table = _completion_table(dd, back, prize, allowed, can_end, G, stop_at)
+            if table is None:  # the clock stopped it
+                return PricingResult(float(threshold), [], False, 0)
         best, ends, parents, nodes, work, complete = _label(
             self.D, self.back, prize, self.memories, allowed, can_end, budget, table, delta,
             G, threshold, exact, stop_at, cuts, memories, penalties,
@@ -234,11 +236,20 @@ def _trace(label: int, parents: np.ndarray, nodes: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def _completion_table(dd, back, prize, allowed, can_end, G):  # pragma: no cover - compiled
-    """``g(b, j)`` of the module docstring for ``b = 0..G`` (``-inf``: cannot end)."""
+def _completion_table(dd, back, prize, allowed, can_end, G, stop_at):  # pragma: no cover - compiled
+    """``g(b, j)`` of the module docstring for ``b = 0..G`` (``-inf``: cannot end), or
+    None when the clock passes ``stop_at`` first (read every :data:`CLOCK_EVERY` steps)."""
     m1 = dd.shape[0]
     table = np.full((G + 1, m1), -np.inf)
+    work = 0
     for b in range(G + 1):
+        work += m1 * m1
+        if work >= CLOCK_EVERY:
+            work = 0
+            with objmode(now="float64"):
+                now = time.perf_counter()
+            if now >= stop_at:
+                return None
         for j in range(1, m1):
             best = 0.0 if (can_end[j] and back[j] <= b) else -np.inf
             for k in range(1, m1):
@@ -295,9 +306,9 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
     Labels are created on extension and tested for dominance when they leave the heap:
     every label at the same node with a smaller length has left it before, so the test
     runs against those already extended only, kept per node by decreasing prize (only a
-    prefix can dominate). ``work`` counts labels and dominance tests; every
-    :data:`CLOCK_EVERY` of them the clock is read, and at ``stop_at`` the labelling stops
-    (``complete`` False).
+    prefix can dominate). ``work`` counts labels, dominance tests and the candidates of
+    each extension; every :data:`CLOCK_EVERY` of them the clock is read, and at
+    ``stop_at`` the labelling stops (``complete`` False).
     """
     m1 = D.shape[0]
     W = memories.shape[1]
@@ -328,6 +339,13 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
     complete = True
 
     while hsize > 0:
+        if work >= clock:
+            clock = work + CLOCK_EVERY
+            with objmode(now="float64"):
+                now = time.perf_counter()
+            if now >= stop_at:
+                complete = False
+                break
         lab = hval[0]
         hsize -= 1
         if hsize > 0:  # sift the last entry down from the root
@@ -374,13 +392,7 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
             vals[k], labs[k] = vi, lab
             fill[i] += 1
             work += fill[i] - k
-        if work >= clock:
-            clock = work + CLOCK_EVERY
-            with objmode(now="float64"):
-                now = time.perf_counter()
-            if now >= stop_at:
-                complete = False
-                break
+        work += m1  # the extension loop below looks at every node
         for j in range(1, m1):
             if j == i or not allowed[i, j]:
                 continue
@@ -408,7 +420,7 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
                 length, value = _grow(length, cap), _grow(value, cap)
                 hkey, hval = _grow(hkey, cap), _grow(hval, cap)
                 parity = _grow(parity, cap)
-                grown = np.zeros((cap, W), np.uint64)
+                grown = np.empty((cap, W), np.uint64)  # rows below count are written on use
                 grown[:count] = memory[:count]
                 memory = grown
             new = count
@@ -437,7 +449,7 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
     ends = np.empty((nends, 2))
     for r in range(nends):
         ends[r, 0], ends[r, 1] = ends_label[r], ends_value[r]
-    return best, ends, parent[:count].copy(), node[:count].copy(), work, complete
+    return best, ends, parent[:count], node[:count], work, complete
 
 
 def cut_coefficients(orders: list[np.ndarray], cuts: np.ndarray, memories: np.ndarray,

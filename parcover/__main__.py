@@ -1,7 +1,5 @@
 """``python -m parcover``: the command line."""
 
-import sys
+from parcover.cli import run
 
-from parcover.cli import main
-
-sys.exit(main())
+run()
