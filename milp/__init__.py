@@ -5,7 +5,7 @@ start and ``1..n`` the KPOIs. Methods:
 
 - :mod:`milp.arcflow`: compact arc-flow MILP with distance flow (HiGHS), arc pruning,
   warm start; the default.
-- :mod:`milp.setpart`: Held-Karp over all subsets plus set partitioning (``n <= 16``),
+- :mod:`milp.setpart`: Held-Karp over all subsets plus set partitioning (``n <= 20``),
   an independent check.
 - :mod:`milp.branchprice`: branch-and-price over ng-routes (:mod:`milp.ngroute`, numba
   labelling): fewest routes within a deadline, least makespan as a sequence of those.

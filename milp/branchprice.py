@@ -106,6 +106,9 @@ __all__ = ["min_robots", "min_makespan", "MAX_KPOIS"]
 MAX_KPOIS = 200
 #: Relative tolerance of certificates (round-off in sums of duals).
 CERT_TOL = 1e-9
+#: A bound within this of an integer counts as that integer (LP round-off): it proves
+#: more than ``t`` routes are needed only when above ``t + ROUND`` (:func:`_rounded_up`).
+ROUND = 1e-6
 #: Weight of the stability center in the pricing duals.
 SMOOTHING = 0.5
 #: A makespan decision asks for routes within ``Z * (1 - STRICT)``.
@@ -225,6 +228,11 @@ class _LpOutcome:
     why: str
 
 
+def _rounded_up(bound: float) -> float:
+    """The least number of routes a certified LP bound proves (inf stays inf)."""
+    return math.ceil(bound - ROUND) if math.isfinite(bound) else bound
+
+
 class _Search:
     """Column generation and branching over one pool (merged matrix, route kind)."""
 
@@ -299,7 +307,7 @@ class _Search:
         while True:
             outcome = self._column_generation(node, budget, target, columns, bound)
             bound = outcome.bound
-            if (outcome.why != "solved" or math.ceil(bound - 1e-6) > target
+            if (outcome.why != "solved" or _rounded_up(bound) > target
                     or self.integral_routes(outcome) is not None or not self._separate(outcome)):
                 return outcome
 
@@ -317,18 +325,19 @@ class _Search:
             # (pi, sigma) >= 0: covering duals, and cut duals with their sign turned
             duals = np.concatenate((np.maximum(row_dual[:self.m], 0.0), np.maximum(-row_dual[self.m:], 0.0)))
             x = np.asarray(h.getSolution().col_value, dtype=np.float64)
-            if math.ceil(bound - 1e-6) >= math.ceil(value - 1e-6) or bound >= value * (1 - 1e-7):
+            if _rounded_up(bound) >= _rounded_up(value) or bound >= value * (1 - 1e-7):
                 return _LpOutcome(bound, value, columns, x, "solved")
             if self.out_of_time():
                 return _LpOutcome(bound, value, columns, x, "time limit")
             found = 0
             for y, exact in self._duals_to_try(duals, center):
-                res = self._price_duals(y, budget, node, exact=exact)
+                res = self._price_duals(y, budget, node, exact=exact,
+                                        threshold=self._closing_prize(y, target) if exact else 1.0)
                 if res.exact:
                     certified = self._farley(y, res.best)
                     if certified > bound:
                         bound, center = certified, y / max(res.best, 1.0)
-                    if bound > target * (1 + CERT_TOL) + CERT_TOL:
+                    if _rounded_up(bound) > target:
                         return _LpOutcome(bound, value, columns, x, "closed")
                 useful = [r for r in res.routes if self._route_value(r, duals) > 1 + 1e-9]
                 found = self._append(h, columns, useful, budget, node)
@@ -346,13 +355,26 @@ class _Search:
         the dual objective ``sum(pi) - sum(sigma)`` over ``max(best, 1)``."""
         return float(y[:self.m].sum() - y[self.m:].sum()) / (max(best, 1.0) * (1 + CERT_TOL))
 
-    def _price_duals(self, y: np.ndarray, budget: float, node: _Node, *, exact: bool
-                     ) -> ngroute.PricingResult:
-        """Pricing for duals ``y = (pi, sigma)``: prizes ``pi``, cut penalties ``sigma``."""
+    def _closing_prize(self, y: np.ndarray, target: float) -> float:
+        """The prize a route must beat for duals ``y`` to leave the node open: when no
+        route's prize exceeds it, Farley's bound (4) is above ``target`` and the node
+        closes. At least 1 (a column must price out). Pricing with it as threshold prunes
+        every label that could only reach prizes between 1 and it (early termination of
+        column generation by the Lagrangian bound, Desaulniers, Desrosiers and Solomon,
+        "Column Generation", 2005, ch. 1)."""
+        dual_objective = float(y[:self.m].sum() - y[self.m:].sum())
+        closing = dual_objective / ((1 + CERT_TOL) * (target + 2 * ROUND))
+        return max(1.0, closing)
+
+    def _price_duals(self, y: np.ndarray, budget: float, node: _Node, *, exact: bool,
+                     threshold: float = 1.0) -> ngroute.PricingResult:
+        """Pricing for duals ``y = (pi, sigma)``: prizes ``pi``, cut penalties ``sigma``;
+        routes whose prize exceeds ``threshold``."""
         penalties = np.zeros(64)
         penalties[:len(self.cuts)] = y[self.m:]
         return self.price(np.concatenate(([0.0], y[:self.m])), budget, node, exact=exact,
-                          cuts=self.cut_bits, memories=self.cut_memory, penalties=penalties)
+                          threshold=threshold, cuts=self.cut_bits, memories=self.cut_memory,
+                          penalties=penalties)
 
     def _route_value(self, route: np.ndarray, y: np.ndarray) -> float:
         """A route's prize under duals ``y``: its visits' ``pi`` minus its cuts' ``sigma``
@@ -495,7 +517,7 @@ class _Search:
                 return best, root_bound, "unknown"
             node = stack.pop()
             outcome = self.solve_node(node, budget, target)
-            rounded = math.ceil(outcome.bound - 1e-6) if math.isfinite(outcome.bound) else math.inf
+            rounded = _rounded_up(outcome.bound)
             candidates = []
             if root_bound is None:
                 root_bound = max(1, rounded) if math.isfinite(rounded) else None

@@ -12,7 +12,8 @@ and input checks).
        f(S, j) = \min_{i \in S \setminus \{j\}} f(S \setminus \{j\}, i) + d_{ij}.
 
    Path cost :math:`c(S) = \min_j f(S, j)`; tour cost :math:`c(S) = \min_j f(S, j) + d_{j0}`.
-   Time :math:`O(2^n n^2)`, memory :math:`O(2^n n)`: ``n <= 16`` (about 1 M states).
+   Time :math:`O(2^n n^2)`, memory :math:`O(2^n n)`: ``n <= 20`` (21 M states, 190 MB,
+   about 2 s).
 
 2. ``min_robots(U)``: the family :math:`F = \{S : c(S) \le U\}` of routes within the
    deadline. With a metric :math:`D` it is *downward closed* (dropping a KPOI from a
@@ -26,7 +27,10 @@ and input checks).
    .. math::
        N_j(S) = \sum_{R \subseteq S} (-1)^{|S \setminus R|} z(R)^j ,
 
-   computed in :math:`O(2^n n)` with exact (Python) integers. The fewest robots is the
+   computed in :math:`O(2^n n)` modulo primes below :math:`2^{31}` (the products fit
+   in 64 bits): a nonzero residue proves :math:`N_j > 0`; zero residues modulo primes
+   whose product exceeds :math:`z(\{1..n\})^j \ge N_j` prove :math:`N_j = 0`
+   (Chinese remainder theorem), so every answer is exact. The fewest robots is the
    least :math:`j` with :math:`N_j(\{1..n\}) > 0`; the routes are recovered one at a
    time (the route through the lowest remaining KPOI whose complement still has
    :math:`N_{j-1} > 0`). When rounding makes :math:`F` not downward closed (a
@@ -45,6 +49,7 @@ explicitly, so no zero-length cycle can stand in for a route.
 
 from __future__ import annotations
 
+import math
 import time
 
 import highspy
@@ -55,9 +60,33 @@ from milp.highs import LpSolve, make_lp, solve_lp
 from milp.result import MilpResult, relative_gap
 from milp.routes import check_distance_matrix, check_routes, within
 
-#: Largest number of KPOIs: 2^16 subsets x 16 end KPOIs is ~1 M DP states (8 MB), and
-#: the set-partitioning model has up to 65 535 columns; each extra KPOI doubles both.
-MAX_KPOIS = 16
+#: Largest number of KPOIs: 2^20 subsets x 20 end KPOIs is ~21 M DP states (170 MB of
+#: costs, 21 MB of parents, about 2 s); each extra KPOI doubles time and memory.
+MAX_KPOIS = 20
+
+
+def _primes_below(limit: int, count: int) -> tuple[int, ...]:
+    """The ``count`` largest primes below ``limit`` (trial division by the primes up to
+    its square root)."""
+    root = math.isqrt(limit) + 1
+    sieve = np.ones(root + 1, dtype=bool)
+    sieve[:2] = False
+    for i in range(2, math.isqrt(root) + 1):
+        if sieve[i]:
+            sieve[i * i::i] = False
+    small = np.flatnonzero(sieve)
+    found: list[int] = []
+    candidate = limit - 1
+    while len(found) < count:
+        if np.all(candidate % small[small < candidate] != 0):
+            found.append(candidate)
+        candidate -= 1
+    return tuple(found)
+
+
+#: Moduli of the route counts: residues multiply below 2^62. 32 of them hold counts up to
+#: 2^990, above the largest possible, (2^20)^20 (all 20-tuples of subsets of 20 KPOIs).
+PRIMES = _primes_below(1 << 31, 32)
 
 
 class RouteTable:
@@ -66,7 +95,7 @@ class RouteTable:
     Parameters
     ----------
     D : numpy.ndarray
-        ``(n+1, n+1)`` distance matrix, index 0 the start, ``n <= 16``.
+        ``(n+1, n+1)`` distance matrix, index 0 the start, ``n <= 20``.
 
     Attributes
     ----------
@@ -174,25 +203,41 @@ class RouteCounter:
         Boolean, indexed by subset mask: whether the subset's cheapest route meets the
         deadline. ``family[0]`` (the empty route) must be True and the family downward
         closed (:func:`downward_closed`).
+    primes : tuple of int
+        Moduli of the counts, each below :math:`2^{31}` (tests pass small ones).
     """
 
-    def __init__(self, family: np.ndarray) -> None:
+    def __init__(self, family: np.ndarray, primes: tuple[int, ...] = PRIMES) -> None:
         self.n = int(len(family)).bit_length() - 1
         self.family = family
-        self.z = _subset_sums(family.astype(np.int64), +1).astype(object)  # z(R), exact ints
+        self.primes = primes
+        self.z = _subset_sums(family.astype(np.int64), +1)  # z(R) <= 2^n: exact in int64
         self.full = len(family) - 1
-        outside = self.n - _popcount(np.arange(len(family)))
-        self.sign = np.where(outside % 2 == 0, 1, -1).astype(object)  # (-1)^(n - |R|)
+        self.odd = (self.n - _popcount(np.arange(len(family)))) % 2 == 1  # sign (-1)^(n-|R|)
 
     def covers(self, j: int) -> bool:
-        """Whether the KPOIs split into at most ``j`` routes of the family: N_j(full) > 0."""
-        return sum(self.sign * self.z**j) > 0
+        """Whether the KPOIs split into at most ``j`` routes of the family: N_j(full) > 0,
+        decided exactly from its residues (module docstring, 2)."""
+        return any(residue != 0 for residue in self._residues(j))
 
-    def partitions(self, j: int) -> np.ndarray:
-        """``N_j(S)`` for every subset ``S``: ``j``-tuples of family members with union ``S``."""
-        if j == 0:
-            return (np.arange(len(self.family)) == 0).astype(np.int64).astype(object)
-        return _subset_sums(self.z**j, -1)
+    def _residues(self, j: int):
+        """``N_j(full)`` modulo one prime after another, until one is nonzero or the
+        primes so far prove it zero; raises when the primes run out first."""
+        ceiling = j * math.log2(max(int(self.z[self.full]), 1))  # N_j <= z(full)^j
+        proven = 0.0  # log2 of the product of the primes used
+        for p in self.primes:
+            terms = _power_mod(self.z % p, j, p)  # each < 2^31: sums of 2^20 fit in 64 bits
+            residue = int(terms[~self.odd].sum() - terms[self.odd].sum()) % p
+            yield residue
+            proven += math.log2(p)
+            if residue != 0 or proven > ceiling:
+                return
+        raise ArithmeticError(f"{len(self.primes)} primes cannot decide counts up to 2^{ceiling:.0f}")
+
+    def partitions(self, j: int, p: int) -> np.ndarray:
+        """``N_j(S) mod p`` for every subset ``S`` (``j``-tuples of family members with
+        union ``S``)."""
+        return _partitions_mod(self.z, j, p)
 
     def fewest(self) -> int | None:
         """The fewest routes of the family covering every KPOI, None if no number does."""
@@ -202,23 +247,51 @@ class RouteCounter:
         """Masks of at most ``j`` disjoint family members covering every KPOI.
 
         Requires :meth:`covers` ``(j)``. Each step takes, among the members holding the
-        lowest uncovered KPOI, the largest (then the smallest mask) whose complement
-        still splits into the routes left.
+        lowest uncovered KPOI whose complement provably still splits into the routes left
+        (a nonzero residue of its count, for the first prime giving one), the largest,
+        then the smallest mask.
         """
         masks = np.arange(len(self.family))
         left, chosen = self.full, []
         for rest in range(j - 1, -1, -1):
             if left == 0:
                 break
-            remainder = self.partitions(rest)
             lowest = left & -left
             fits = self.family & ((masks & ~left) == 0) & ((masks & lowest) != 0)
             candidates = masks[fits]
-            candidates = candidates[(remainder[left ^ candidates] > 0).astype(bool)]
-            pick = candidates[np.lexsort((candidates, -_popcount(candidates)))[0]]
+            for p in self.primes:
+                proven = candidates[self.partitions(rest, p)[left ^ candidates] != 0]
+                if len(proven):
+                    break
+            else:
+                raise ArithmeticError("no prime proves a split; covers(j) was not true")
+            pick = proven[np.lexsort((proven, -_popcount(proven)))[0]]
             chosen.append(int(pick))
             left ^= int(pick)
         return chosen
+
+
+def _power_mod(base: np.ndarray, exponent: int, p: int) -> np.ndarray:
+    """``base ** exponent mod p`` elementwise, by squaring (``0 <= base < p < 2^31``, so
+    every product fits in 64 bits)."""
+    result = np.ones_like(base)
+    while exponent:
+        if exponent & 1:
+            result = result * base % p
+        base = base * base % p
+        exponent >>= 1
+    return result
+
+
+def _partitions_mod(z: np.ndarray, j: int, p: int) -> np.ndarray:
+    """``N_j(S) mod p`` for every ``S``: the Moebius transform of ``z^j`` modulo ``p``."""
+    out = _power_mod(z % p, j, p)
+    n = int(len(out)).bit_length() - 1
+    for b in range(n):
+        pairs = out.reshape(-1, 2, 1 << b)
+        pairs[:, 1, :] -= pairs[:, 0, :]
+        pairs[:, 1, :] %= p
+    return out
 
 
 def route_family(costs: np.ndarray, deadline: float) -> np.ndarray:
@@ -238,8 +311,7 @@ def _subset_sums(values: np.ndarray, sign: int, *, supersets: bool = False) -> n
     """Zeta (``sign=+1``) or Moebius (``-1``) transform over subsets, or over supersets.
 
     Zeta: ``out[S] = sum of values[R] for R subset of S`` (superset: ``R`` superset of
-    ``S``); Moebius inverts it. One pass per bit, ``O(2^n n)``; works on object arrays
-    (exact integers) as on numeric ones.
+    ``S``); Moebius inverts it. One pass per bit, ``O(2^n n)``.
     """
     out = values.copy()
     n = int(len(out)).bit_length() - 1

@@ -4,10 +4,10 @@
 question again with an exact method other than the one the file names (design.md
 section 3), so that a claim is never checked by the code that made it:
 
-- ``setpart`` when the instance has at most :data:`milp.setpart.MAX_KPOIS` KPOIs and the
-  file's method is neither ``setpart`` nor ``exact`` (which uses ``setpart`` there);
-- else ``branchprice``, or ``compact`` when the file's method is (or, through
-  ``exact``, runs) ``branchprice``.
+- the first of ``setpart`` (at most :data:`milp.setpart.MAX_KPOIS` KPOIs),
+  ``branchprice`` and ``compact`` that is not the file's method nor one that ``exact``
+  may answer with at this size (:func:`parcover.exact.exact_models`) when the file's
+  method is ``exact``.
 
 Outcomes: ``certified`` (every such claim agrees with the proven answer), ``refuted``
 (one contradicts a proven optimum, or a claimed bound is above a solution the certifier
@@ -39,14 +39,11 @@ class Certificate:
 def certifier_for(instance: Instance, method: str | None) -> str:
     """The exact method independent of ``method`` (module docstring)."""
     from milp.setpart import MAX_KPOIS
+    from parcover.exact import exact_models
 
-    small = instance.n <= MAX_KPOIS
-    used = {method, "setpart" if (method == "exact" and small) else None,
-            "branchprice" if (method == "exact" and not small) else None}
-    for candidate in (("setpart",) if small else ()) + ("branchprice", "compact"):
-        if candidate not in used:
-            return candidate
-    return "compact"
+    used = {method} | (exact_models(instance.n) if method == "exact" else set())
+    candidates = (("setpart",) if instance.n <= MAX_KPOIS else ()) + ("branchprice", "compact")
+    return next((c for c in candidates if c not in used), "compact")
 
 
 def certify(instance: Instance, fields: Mapping[str, Any], *, time_limit: float = 60.0) -> Certificate:

@@ -11,7 +11,6 @@ import os
 import shlex
 import sys
 from collections.abc import Callable, Sequence
-from pathlib import Path
 from typing import NoReturn
 
 from parcover import __version__
@@ -479,7 +478,7 @@ def _build_parser() -> argparse.ArgumentParser:
     p.add_argument("--time-limit", type=_positive_float, default=10.0, metavar="SECONDS",
                    help="per exact solve (default: 10); unproven instances count as undecided")
     p.add_argument("--exact", help="exact method giving the optima (default: exact; with --check setpart "
-                   "up to 16 KPOIs, exact above)")
+                   "up to 20 KPOIs, exact above)")
     p.add_argument("--greedy", help="comma-separated methods to judge (default: every paper* method)")
     p.add_argument("--out-dir", metavar="DIR", help="save shrunk counterexamples here (e.g. instances/counterexamples)")
     p.add_argument("--report", metavar="FILE.md", help="write the verdicts with pictures (e.g. reports/verdicts.md)")

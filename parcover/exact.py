@@ -5,13 +5,16 @@ them the matrix, a warm start, and maps their answer back to a
 :class:`~parcover.problem.Solution`, which :func:`parcover.solve` then verifies
 independently. Five methods:
 
-- ``exact`` (the default): ``setpart`` up to :data:`milp.setpart.MAX_KPOIS` KPOIs,
-  where it is the fastest (a fraction of a second), ``branchprice`` above;
+- ``exact`` (the default): ``setpart`` up to :data:`SETPART_FIRST` KPOIs, where it is
+  the fastest (a fraction of a second); up to :data:`milp.setpart.MAX_KPOIS` KPOIs
+  ``branchprice`` for :data:`BRANCHPRICE_FIRST` seconds, then ``setpart`` if that was
+  not enough (``branchprice`` is often 5-50x faster there, ``setpart`` always done in
+  about 3 s); ``branchprice`` above, ``compact`` above its size limit;
 - ``branchprice``: branch-and-price over ng-routes (:mod:`milp.branchprice`);
 - ``compact``: the compact arc-flow model solved by HiGHS (:mod:`milp.arcflow`);
 - ``setpart``: Held-Karp route enumeration and set partitioning by inclusion-exclusion
   counting (:mod:`milp.setpart`), an exact method independent of the compact model,
-  for up to 16 KPOIs;
+  for up to 20 KPOIs;
 - ``cvxpy``: the compact model written in cvxpy for reading (:mod:`milp.cvx`).
 
 ``time_limit`` is seconds from the call or a :class:`~milp.deadline.Deadline` shared
@@ -42,6 +45,13 @@ _STATUS = {"optimal": Status.OPTIMAL, "infeasible": Status.INFEASIBLE, "unknown"
 WARM_SHARE = 0.1
 WARM_ROUNDS = {"makespan": 200, "robots": 20}
 
+#: ``exact`` runs ``setpart`` alone up to this many KPOIs.
+SETPART_FIRST = 16
+#: Seconds ``exact`` gives ``branchprice`` before ``setpart`` on 17 to 20 KPOIs (at most
+#: half of the time limit): measured on n = 17-20, ``branchprice`` proves almost every
+#: question in under 1.5 s where ``setpart`` takes 1-3 s, and fails on a few in 60 s.
+BRANCHPRICE_FIRST = 2.0
+
 
 def exact(
     instance: Instance,
@@ -53,31 +63,64 @@ def exact(
     export_model: str | None = None,
 ) -> Solution:
     """Proven optimum within ``time_limit``: :func:`setpart` for small instances,
-    :func:`branch_and_price` up to :data:`milp.branchprice.MAX_KPOIS` KPOIs, else
-    :func:`compact`.
+    :func:`branch_and_price` then :func:`setpart` up to :data:`milp.setpart.MAX_KPOIS`
+    KPOIs, :func:`branch_and_price` up to :data:`milp.branchprice.MAX_KPOIS`, else
+    :func:`compact` (module docstring).
 
-    ``info["model"]`` names the one used. Options as :func:`compact` (``warm_start`` is
-    only checked by ``setpart``; ``export_model`` always writes the compact model).
+    ``info["model"]`` names the one that gave the answer. Options as :func:`compact`
+    (``warm_start`` is only checked by ``setpart``; ``export_model`` always writes the
+    compact model).
     """
     clock = Deadline.of(time_limit)  # the imports below count against the limit
     from milp import setpart as model
 
-    if instance.n > model.MAX_KPOIS:
-        from milp import branchprice  # numba: only when needed
-
-        if instance.n > branchprice.MAX_KPOIS:
-            return compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start,
-                           export_model=export_model)
-        if export_model:
-            _export(instance, problem, export_model)
-        return branch_and_price(instance, problem, time_limit=clock, seed=seed,
-                                warm_start=warm_start)
     if export_model:
         _export(instance, problem, export_model)
+    if instance.n <= SETPART_FIRST:
+        return _setpart(model, instance, problem, clock, warm_start)
+    from milp import branchprice  # numba: only when needed
+
+    if instance.n > branchprice.MAX_KPOIS:
+        return compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
+    if instance.n > model.MAX_KPOIS:
+        return branch_and_price(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
+    first = branch_and_price(instance, problem, time_limit=_share(clock, BRANCHPRICE_FIRST),
+                             seed=seed, warm_start=warm_start)
+    if _decided(first):
+        return first
+    solution = _setpart(model, instance, problem, clock, warm_start)
+    return solution if _decided(solution) else first
+
+
+def _setpart(model: Any, instance: Instance, problem: Problem, clock: Deadline,
+             warm_start: list[list[int]] | None) -> Solution:
+    """:mod:`milp.setpart` on ``problem``, ``info["model"]`` = ``"setpart"``."""
     solution = _run(model.min_makespan, model.min_robots, instance, problem, clock,
                     warm_start=warm_start)
     solution.info["model"] = "setpart"
     return solution
+
+
+def exact_models(n: int) -> set[str]:
+    """The methods ``exact`` may answer with on ``n`` KPOIs (module docstring)."""
+    from milp import setpart as model
+
+    if n <= SETPART_FIRST:
+        return {"setpart"}
+    if n <= model.MAX_KPOIS:
+        return {"branchprice", "setpart"}
+    return {"branchprice", "compact"}
+
+
+def _decided(solution: Solution) -> bool:
+    """Whether a model proved its answer (optimal or infeasible)."""
+    return solution.status in (Status.OPTIMAL, Status.INFEASIBLE)
+
+
+def _share(clock: Deadline, seconds: float) -> Deadline:
+    """A deadline ``seconds`` from now, or half of what is left of ``clock`` if sooner."""
+    left = clock.remaining()
+    return Deadline(seconds if left is None else min(seconds, 0.5 * left))
 
 
 def compact(
@@ -174,7 +217,7 @@ def _export(instance: Instance, problem: Problem, path: str) -> None:
 def setpart(
     instance: Instance, problem: Problem, *, time_limit: TimeLimit = None, seed: int = 0
 ) -> Solution:
-    """Proven optimum by set partitioning over every subset's cheapest route (n <= 16)."""
+    """Proven optimum by set partitioning over every subset's cheapest route (n <= 20)."""
     from milp import setpart as model
 
     _check_size(instance, model.MAX_KPOIS, "setpart")
@@ -234,12 +277,12 @@ def _run(
 
 
 METHODS = (
-    MethodInfo("exact", exact, "proven optimum: setpart up to 16 KPOIs, branchprice above (default)",
+    MethodInfo("exact", exact, "proven optimum: setpart up to 16 KPOIs, branchprice then setpart to 20, branchprice above (default)",
                ("warm_start", "export_model")),
     MethodInfo("compact", compact, "proven optimum: compact arc-flow MILP in HiGHS", ("warm_start", "export_model")),
     MethodInfo("branchprice", branch_and_price,
                "proven optimum: branch-and-price over ng-routes (column generation, arc branching)",
                ("warm_start",)),
-    MethodInfo("setpart", setpart, "proven optimum: Held-Karp routes + counting set partitions (n <= 16)"),
+    MethodInfo("setpart", setpart, "proven optimum: Held-Karp routes + counting set partitions (n <= 20)"),
     MethodInfo("cvxpy", cvxpy_model, "proven optimum: the compact model written in cvxpy (slow, for reading)"),
 )

@@ -381,7 +381,7 @@ def search(
         Called after every evaluation (progress).
     """
     if not 3 <= max_kpois <= 16:
-        raise InputError(f"max_kpois must be between 3 and 16 (setpart's limit), got {max_kpois}.")
+        raise InputError(f"max_kpois must be between 3 and 16 (setpart stays under a second there), got {max_kpois}.")
     for s in spaces:
         if s not in SPACES:
             raise InputError(f"Unknown space {s!r}; expected one of {', '.join(SPACES)}.")

@@ -107,9 +107,11 @@ def test_certify_refutes_a_greedy_answer_claimed_optimal(capsys, files):
 
 
 def test_certify_uses_a_method_other_than_the_files():
-    small, large = pc.generate.random_points(8, 1), pc.generate.random_points(20, 1)
-    assert certifier_for(small, "exact") != "setpart"
+    small, middle, large = (pc.generate.random_points(n, 1) for n in (8, 20, 25))
+    assert certifier_for(small, "exact") == "branchprice"
     assert certifier_for(small, "nn") == "setpart"
+    assert certifier_for(middle, "exact") == "compact"  # exact may answer by either
+    assert certifier_for(middle, "branchprice") == "setpart"
     assert certifier_for(large, "exact") == "compact"
     assert certifier_for(large, "branchprice") == "compact"
     assert certifier_for(large, "compact") == "branchprice"

@@ -173,7 +173,7 @@ def test_warm_start_is_used_and_checked():
 
 def test_setpart_refuses_large_instances():
     with pytest.raises(ValueError, match="2\\^n"):
-        setpart.min_makespan(euclidean(17, 1), 2, tours=False)
+        setpart.min_makespan(euclidean(setpart.MAX_KPOIS + 1, 1), 2, tours=False)
 
 
 def test_result_status_and_gap():

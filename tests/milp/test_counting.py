@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import parcover
-from milp import setpart
+from milp import branchprice, setpart
 from milp.routes import route_cost
 
 from milp_helpers import euclidean
@@ -32,12 +32,34 @@ def test_counts_match_enumeration_on_a_hand_family():
     counter = setpart.RouteCounter(family)
     # by hand: 2-tuples covering {1,2,3} must contain {3} (mask 4) and {1,2} (mask 3): 2 orders
     assert brute_counts(family, 2) == 2
-    assert counter.partitions(2)[7] == 2 and counter.covers(2)
+    p = setpart.PRIMES[0]
+    assert counter.partitions(2, p)[7] == 2 and counter.covers(2)
     assert not counter.covers(1)
     assert counter.fewest() == 2
     assert sorted(counter.split(2)) == [3, 4]
     for j in range(4):
-        assert counter.partitions(j)[7] == brute_counts(family, j)
+        assert counter.partitions(j, p)[7] == brute_counts(family, j)
+
+
+def test_a_count_that_vanishes_modulo_a_prime_is_decided_by_the_next():
+    # the hand family above: N_2 = 2 (a cover exists) vanishes mod 2, not mod 3; N_1 = 0
+    # is proven zero once the primes' product exceeds z(full)^1 = 5 (2 x 3 = 6)
+    family = np.zeros(8, dtype=bool)
+    family[[0, 1, 2, 4, 3]] = True
+    counter = setpart.RouteCounter(family, primes=(2, 3, 5))
+    assert list(counter._residues(2)) == [0, 2]
+    assert counter.covers(2) and sorted(counter.split(2)) == [3, 4]
+    assert list(counter._residues(1)) == [0, 0] and not counter.covers(1)
+    with pytest.raises(ArithmeticError):
+        setpart.RouteCounter(family, primes=(2,)).covers(1)  # 2 < 5: zero is not proven
+
+
+def test_the_primes_are_primes_below_2_to_the_31():
+    primes = setpart.PRIMES
+    assert len(set(primes)) == len(primes) and all(p < 2**31 for p in primes)
+    for p in primes:  # trial division by every odd number up to the square root
+        assert p % 2 and all(p % d for d in range(3, int(p**0.5) + 1, 2))
+    assert sum(np.log2(primes)) > 20 * 20  # (2^20)^20 tuples at most
 
 
 def test_a_family_missing_a_subset_is_not_downward_closed():
@@ -82,4 +104,27 @@ def test_exact_uses_setpart_up_to_16_kpois_and_branchprice_above():
     line = parcover.Instance.from_points([(i, 0) for i in range(18)])  # 17 KPOIs on a line
     result = parcover.solve(line, robots=2, time_limit=60)
     assert result.info["model"] == "branchprice"
+    # by hand: one robot walks to the far end (17), the other one idles
     assert result.makespan == pytest.approx(17) and result.status is parcover.Status.OPTIMAL
+
+
+def test_exact_falls_back_to_setpart_when_branchprice_runs_out_of_its_share(monkeypatch):
+    from parcover import exact
+
+    instance = parcover.generate.random_points(18, 4)
+    by_branchprice = parcover.solve(instance, robots=3, method="branchprice", time_limit=60)
+    monkeypatch.setattr(exact, "BRANCHPRICE_FIRST", 1e-6)
+    result = parcover.solve(instance, robots=3, time_limit=60)
+    assert result.info["model"] == "setpart" and result.status is parcover.Status.OPTIMAL
+    assert by_branchprice.status is parcover.Status.OPTIMAL
+    assert result.makespan == pytest.approx(by_branchprice.makespan, rel=1e-9)
+
+
+@pytest.mark.parametrize("tours", [False, True])
+def test_setpart_agrees_with_branchprice_at_20_kpois(tours):
+    D = euclidean(20, 7)
+    for k in (2, 4):
+        ours = setpart.min_makespan(D, k, tours=tours)
+        theirs = branchprice.min_makespan(D, k, tours=tours, time_limit=120)
+        assert ours.status == theirs.status == "optimal"
+        assert ours.objective == pytest.approx(theirs.objective, rel=1e-9)
