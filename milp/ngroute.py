@@ -59,6 +59,20 @@ only if :math:`p_e` minus the duals of the cuts where ``e``'s bit is set and ``f
 not is still at least :math:`p_f` (Jepsen et al. 2008). The completion bound ignores the
 cuts, which only lower prizes, so it stays an upper bound.
 
+Growing the neighbourhoods (decremental state-space relaxation)
+---------------------------------------------------------------
+The exact labelling remembers only part of each neighbourhood, :math:`\Pi_i \subseteq
+N_i`, starting from :math:`\{i\}` (:data:`DSSR_START`): fewer memories, more dominance,
+and every ng-route is still a :math:`\Pi`-route, so its best prize bounds theirs. When
+the best route found has a cycle the :math:`N_i` forbid (KPOI :math:`v` visited twice
+and in the neighbourhood of every KPOI between), :math:`v` is added to the
+:math:`\Pi` of those KPOIs and the labelling runs again, until the best route is an
+ng-route (then its prize is the ng optimum) or no route beats the threshold
+(Righini and Salani 2008, Networks 51; with ng-routes Martinelli, Pecin and Poggi 2014,
+Oper. Res. Letters 42). The :math:`\Pi` grow over the whole search. On fewest tours
+within 1.2 x 2 c_max, n = 50 (four long tours), the proving pricing did 5-14x less work
+(seeds 1 and 3: 0.97 G -> 70 M, 3.3 G -> 0.36 G).
+
 Heuristic pricing
 -----------------
 With ``exact=False`` dominance ignores the memories (a label with a shorter length and
@@ -81,6 +95,10 @@ __all__ = ["Pricing", "PricingResult", "cut_coefficients", "ng_memories", "NG_SI
 
 #: Neighbourhood size of the ng-relaxation (KPOI itself included); Baldacci et al. use 8.
 NG_SIZE = 16
+#: The exact labelling starts from neighbourhoods of this size and grows them where its
+#: best routes have cycles the full ng-neighbourhoods forbid (decremental state-space
+#: relaxation, module docstring).
+DSSR_START = 1
 #: Most grid steps of the completion bound.
 MAX_GRID = 4000
 #: The labelling reads the clock after this much work (labels, dominance tests, candidates).
@@ -108,6 +126,11 @@ class PricingResult:
     routes: list[np.ndarray]
     exact: bool
     work: int
+
+
+def _bits(words: np.ndarray, count: int) -> np.ndarray:
+    """The first ``count`` bits of a row of ``uint64`` words, as bools."""
+    return np.unpackbits(words.view(np.uint8), bitorder="little")[:count].astype(bool)
 
 
 def ng_memories(D: np.ndarray, size: int = NG_SIZE) -> np.ndarray:
@@ -142,6 +165,9 @@ class Pricing:
         self.m = len(D) - 1
         self.back = self.D[:, 0].copy() if tours else np.zeros(self.m + 1)
         self.memories = ng_memories(self.D, ng_size)
+        self.neighbours = [set(np.flatnonzero(_bits(row, self.m + 1)).tolist()) for row in self.memories]
+        # the part of each neighbourhood the exact labelling remembers (grown by _forbid)
+        self.remembered = self.memories & ng_memories(self.D, min(DSSR_START, ng_size))
         off = self.D[~np.eye(self.m + 1, dtype=bool)]
         self.shortest = float(off.min()) if off.size else 1.0
 
@@ -206,13 +232,42 @@ class Pricing:
             table = _completion_table(dd, back, prize, allowed, can_end, G, stop_at)
             if table is None:  # the clock stopped it
                 return PricingResult(float(threshold), [], False, 0)
-        best, ends, parents, nodes, work, complete = _label(
-            self.D, self.back, prize, self.memories, allowed, can_end, budget, table, delta,
-            G, threshold, exact, stop_at, cuts, memories, penalties,
-        )
-        order = np.argsort(-ends[:, 1], kind="stable")[:max_routes] if len(ends) else []
-        routes = [_trace(int(ends[r, 0]), parents, nodes) for r in order]
-        return PricingResult(float(best), routes, exact and complete, int(work))
+        total = 0
+        while True:
+            best, ends, parents, nodes, work, complete = _label(
+                self.D, self.back, prize, self.remembered if exact else self.memories, allowed,
+                can_end, budget, table, delta, G, threshold, exact, stop_at, cuts, memories,
+                penalties,
+            )
+            total += work
+            order = np.argsort(-ends[:, 1], kind="stable")[:max_routes] if len(ends) else []
+            routes = [_trace(int(ends[r, 0]), parents, nodes) for r in order]
+            if not exact:
+                return PricingResult(float(best), routes, False, int(total))
+            forbidden = [self._forbid(r) for r in routes]
+            if not routes or not forbidden[0] or not complete:
+                # the best route is an ng-route: its prize is the best of every ng-route
+                kept = [r for r, f in zip(routes, forbidden) if not f]
+                return PricingResult(float(best), kept, complete, int(total))
+
+    def _forbid(self, route: np.ndarray) -> bool:
+        """Whether ``route`` has a cycle the ng-neighbourhoods forbid; if so, remember
+        each such cycle's KPOI along it from now on (so the labelling forbids it too).
+
+        A KPOI ``v`` visited at positions ``p < q`` closes a forbidden cycle when ``v``
+        is in the neighbourhood of every KPOI visited in between (the memory kept it).
+        """
+        memory: set[int] = set()
+        seen: dict[int, int] = {}
+        forbidden = False
+        for q, v in enumerate(route.tolist()):
+            if v in memory:
+                forbidden = True
+                for u in route[seen[v] + 1:q].tolist():
+                    self.remembered[u, v // 64] |= np.uint64(1) << np.uint64(v % 64)
+            memory = (memory & self.neighbours[v]) | {v}
+            seen[v] = q
+        return forbidden
 
 
 def _grid_step(budget: float, shortest: float) -> tuple[float, int] | None:

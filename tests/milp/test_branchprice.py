@@ -74,6 +74,40 @@ def test_ng_pricing_bounds_the_elementary_optimum(seed):
     assert found.best >= brute_force_best(D, prize, budget, False) - 1e-9
 
 
+def test_a_cycle_the_neighbourhoods_forbid_is_remembered_from_then_on():
+    # four KPOIs on a line, every neighbourhood holds all of them (ng_size = m)
+    D = euclidean(4, 0)
+    pricing = Pricing(D, tours=False, ng_size=4)
+    assert not pricing.remembered[2, 0] & np.uint64(1 << 1)  # starts from {i} alone
+    assert pricing._forbid(np.array([1, 2, 1]))  # 1 is in N_2: the cycle 1-2-1 is forbidden
+    assert pricing.remembered[2, 0] & np.uint64(1 << 1)  # now KPOI 2 remembers 1
+    assert not pricing._forbid(np.array([1, 2, 3]))
+    small = Pricing(D, tours=False, ng_size=1)  # neighbourhoods {i}: cycles allowed
+    assert not small._forbid(np.array([1, 2, 1]))
+
+
+@pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
+@pytest.mark.parametrize("seed", range(5))
+def test_growing_the_neighbourhoods_finds_the_ng_optimum(seed, tours):
+    """The exact pricing from {i} (growing) and from the full neighbourhoods give the same
+    best prize, and every route it returns is an ng-route."""
+    m = 9
+    D = euclidean(m, 20 + seed)
+    rng = np.random.default_rng(seed)
+    allowed, can_end = open_arcs(m)
+    growing, full = Pricing(D, tours=tours, ng_size=4), Pricing(D, tours=tours, ng_size=4)
+    full.remembered = full.memories.copy()
+    for _ in range(3):  # the neighbourhoods grown by one call serve the next
+        prize = np.concatenate(([0.0], rng.uniform(0.0, 1.0, m)))
+        budget = (2.0 if tours else 1.0) * D[0, 1:].max() * rng.uniform(1.5, 3.0)
+        ours, theirs = (p.price(prize, budget, allowed=allowed, can_end=can_end, exact=True,
+                                threshold=0.5) for p in (growing, full))
+        assert ours.exact and theirs.exact
+        assert ours.best == pytest.approx(theirs.best, abs=1e-9)
+        checker = Pricing(D, tours=tours, ng_size=4)
+        assert not any(checker._forbid(r) for r in ours.routes)
+
+
 def clustered(n: int, seed: int) -> np.ndarray:
     """KPOIs in three tight clusters far apart (long inter-cluster arcs)."""
     rng = np.random.default_rng(seed)
