@@ -22,7 +22,7 @@ from pathlib import Path
 
 from benchmarks.common import ROOT, Config, Section
 
-SECTIONS = ("greedy_scaling", "exact_scaling", "heuristic_quality", "mtsp_literature", "maps_speed")
+SECTIONS = ("greedy_scaling", "exact_scaling", "exact_targets", "heuristic_quality", "mtsp_literature", "maps_speed")
 PACKAGES = ("numpy", "scipy", "pandas", "highspy", "cvxpy", "networkx", "ortools", "pyvrp")
 
 
