@@ -8,8 +8,8 @@ independently. Five methods:
 - ``exact`` (the default): ``setpart`` up to :data:`SETPART_FIRST` KPOIs, where it is
   the fastest (a fraction of a second); up to :data:`milp.setpart.MAX_KPOIS` KPOIs
   ``branchprice`` for :data:`BRANCHPRICE_FIRST` seconds, then ``setpart`` if that was
-  not enough (``branchprice`` is often 5-50x faster there, ``setpart`` always done in
-  about 3 s); ``branchprice`` above, ``compact`` above its size limit;
+  not enough and the time left covers :func:`milp.setpart.expected_seconds`
+  (``branchprice`` is often 5-50x faster there, ``setpart`` always done in 1-4 s); ``branchprice`` above, ``compact`` above its size limit;
 - ``branchprice``: branch-and-price over ng-routes (:mod:`milp.branchprice`);
 - ``compact``: the compact arc-flow model solved by HiGHS (:mod:`milp.arcflow`);
 - ``setpart``: Held-Karp route enumeration and set partitioning by inclusion-exclusion
@@ -86,7 +86,8 @@ def exact(
         return branch_and_price(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
     first = branch_and_price(instance, problem, time_limit=_share(clock, BRANCHPRICE_FIRST),
                              seed=seed, warm_start=warm_start)
-    if _decided(first):
+    left = clock.remaining()
+    if _decided(first) or (left is not None and left < model.expected_seconds(instance.n)):
         return first
     solution = _setpart(model, instance, problem, clock, warm_start)
     return solution if _decided(solution) else first
