@@ -238,7 +238,10 @@ def warm_start_routes(
     instance: Instance, problem: Problem, time_limit: TimeLimit, seed: int
 ) -> list[list[int]] | None:
     """Routes from the ``best`` heuristic when it is available, else ``None``; it gets
-    :data:`WARM_SHARE` of what is left of ``time_limit``."""
+    :data:`WARM_SHARE` of what is left of ``time_limit`` and stops as soon as it meets
+    the trivial lower bound (:func:`parcover.bounds.lower_bound`): measured on the
+    exact-scaling grid, most small questions end there, in a fraction of the rounds."""
+    from parcover.bounds import lower_bound
     from parcover.solve import available_methods
 
     methods = available_methods()
@@ -246,7 +249,8 @@ def warm_start_routes(
         return None
     budget = Deadline.of(time_limit).fraction(WARM_SHARE)
     solution = methods["best"].function(
-        instance, problem, time_limit=budget, seed=seed, iterations=WARM_ROUNDS[problem.objective]
+        instance, problem, time_limit=budget, seed=seed, iterations=WARM_ROUNDS[problem.objective],
+        target=lower_bound(instance, problem),
     )
     return solution.routes or None
 

@@ -75,6 +75,7 @@ def best(
     time_limit: TimeLimit = None,
     seed: int = 0,
     iterations: int | None = None,
+    target: float | None = None,
 ) -> Solution:
     """Best registered construction, then iterated local search (module docstring).
 
@@ -91,6 +92,9 @@ def best(
         Ruin-and-recreate rounds. Default: :data:`DEFAULT_ITERATIONS` without a time
         limit, unbounded (until the time limit) with one. With both, whichever ends
         first; with iterations alone the result depends only on ``seed``.
+    target
+        A proven lower bound on the objective (makespan, or robots): the search stops
+        as soon as it is met, as nothing can be better (the exact methods' warm start).
 
     Returns
     -------
@@ -109,11 +113,13 @@ def best(
         iterations = DEFAULT_ITERATIONS
     stop = None if time_limit is None else started + time_limit
     if problem.objective == "makespan":
-        routes, info = improve(instance, problem, start, seed=seed, iterations=iterations, stop=stop)
+        routes, info = improve(instance, problem, start, seed=seed, iterations=iterations, stop=stop,
+                               target=target)
         return Solution(routes=routes, info={"start": name, **info})
     # robots: part of the effort on the robots search, the rest on fewer_robots
     first = None if stop is None else started + _ROBOTS_SHARE * time_limit
-    routes, info = improve(instance, problem, start, seed=seed, iterations=iterations, stop=first)
+    routes, info = improve(instance, problem, start, seed=seed, iterations=iterations, stop=first,
+                           target=target)
     routes, rounds = fewer_robots(instance, problem, routes, seed=seed, iterations=iterations, stop=stop)
     search = _Search(instance, problem)
     value = search.key(search.sequences(routes))
@@ -234,7 +240,8 @@ def improve(
     stop
         A :func:`time.perf_counter` value at which to stop (``None``: no limit).
     target
-        Makespan objective: stop as soon as the makespan meets this deadline.
+        Stop as soon as the objective meets it: the makespan within it (as a deadline),
+        or at most this many robots.
 
     Returns
     -------
@@ -257,7 +264,7 @@ def improve(
     scale = max(current_key[-2], search.tol)
     done = 0
     while (iterations is None or done < iterations) and not search.out_of_time():
-        if target is not None and meets_deadline(incumbent_key[0], target):
+        if target is not None and _meets(incumbent_key, target):
             break
         progress = done / iterations if iterations else 0.0
         if stop is not None:
@@ -275,6 +282,12 @@ def improve(
             current, current_key = candidate, candidate_key
     final = [s[1:-1] for s in incumbent if len(s) > 2]
     return final, {"start_value": start_key, "value": incumbent_key, "iterations": done}
+
+
+def _meets(key: Key, target: float) -> bool:
+    """Whether the objective of ``key`` meets ``target``: at most ``target`` robots (the
+    robots objective's key has three entries), or a makespan within it."""
+    return key[0] <= target if len(key) == 3 else meets_deadline(key[0], target)
 
 
 def _copy(seqs: list[list[int]]) -> list[list[int]]:

@@ -94,6 +94,30 @@ def test_improves_a_poor_start_on_random_points():
     assert info["value"][0] == pytest.approx(_value(instance, problem, routes)[0])
 
 
+def test_the_search_stops_once_the_target_is_met_and_not_before():
+    # The same poor start as above: 3 paths of 10 KPOIs in list order. A target at the
+    # start's own makespan is met before the first round; one below every makespan (0)
+    # never is, so all rounds run.
+    instance = generate.random_points(30, 5)
+    problem = Problem("paths", robots=3)
+    start = [list(range(1, 11)), list(range(11, 21)), list(range(21, 31))]
+    start_value = _value(instance, problem, start)[0]
+    _, met = improve(instance, problem, start, seed=0, iterations=5, target=start_value)
+    _, unmet = improve(instance, problem, start, seed=0, iterations=5, target=0.0)
+    assert met["iterations"] == 0 and unmet["iterations"] == 5
+
+
+def test_robots_target_counts_routes(fig3_star):
+    # Robots objective: a target of as many robots as the start has stops at once; the
+    # answer is never worse than the start.
+    problem = Problem("paths", deadline=fig3_star.c_max * 3)
+    start = [[j] for j in range(1, fig3_star.n + 1)]
+    routes, met = improve(fig3_star, problem, start, seed=0, iterations=5, target=len(start))
+    _, unmet = improve(fig3_star, problem, start, seed=0, iterations=5, target=0)
+    assert met["iterations"] == 0 and len(routes) <= len(start)
+    assert unmet["iterations"] == 5
+
+
 @settings(max_examples=25)
 @given(instance=instances(1, 9), problem=least_makespan_or_robots(4), seed=st.integers(0, 3))
 def test_best_is_valid_and_never_worse_than_its_start(instance, problem, seed):
