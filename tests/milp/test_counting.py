@@ -108,6 +108,20 @@ def test_exact_uses_setpart_up_to_16_kpois_and_branchprice_above():
     assert result.makespan == pytest.approx(17) and result.status is parcover.Status.OPTIMAL
 
 
+def test_exact_settles_by_the_trivial_bound_when_a_construction_meets_it():
+    # 15 KPOIs, 5 tours: some tour reaches the farthest KPOI, so 2 c_max is a lower bound
+    # (Prop. 1); when best's construction meets it no model runs, and setpart agrees.
+    instance = parcover.generate.random_points(15, 2)
+    result = parcover.solve(instance, "tours", robots=5)
+    assert result.info["model"] == "bounds" and result.status is parcover.Status.OPTIMAL
+    assert result.makespan == pytest.approx(2 * instance.c_max, rel=1e-9)
+    by_setpart = parcover.solve(instance, "tours", robots=5, method="setpart")
+    assert by_setpart.makespan == pytest.approx(result.makespan, rel=1e-9)
+    # two paths cannot meet c_max here: setpart answers, above the trivial bound
+    two = parcover.solve(instance, robots=2)
+    assert two.info["model"] == "setpart" and two.makespan > instance.c_max * (1 + 1e-6)
+
+
 def test_exact_falls_back_to_setpart_when_branchprice_runs_out_of_its_share(monkeypatch):
     from parcover import exact
 
