@@ -88,6 +88,7 @@ from dataclasses import dataclass
 import highspy
 import numpy as np
 from numba import njit
+from numba.core.dispatcher import Dispatcher
 from scipy import sparse
 
 from milp.bounds import makespan_lower_bound as tree_makespan_bound
@@ -100,10 +101,14 @@ from milp.result import MilpResult, relative_gap
 from milp.routes import check_distance_matrix, first_visits, least_makespan, makespan, route_cost, within
 from milp.warmstart import nearest_neighbour_order, split_min_makespan
 
-__all__ = ["min_robots", "min_makespan", "MAX_KPOIS"]
+__all__ = ["min_robots", "min_makespan", "ready_within", "MAX_KPOIS", "COMPILE_SECONDS"]
 
 #: Largest number of (merged) KPOIs the pricing's bit masks are tested with.
 MAX_KPOIS = 200
+#: Seconds to allow for compiling the pricing on its first use, when numba's on-disk cache
+#: does not hold it yet (measured 9.9 s on a shared 2-core EPYC, 7.1 s of it the labelling; twice that for slower
+#: machines). Later runs load it from the cache in a fraction of a second.
+COMPILE_SECONDS = 20.0
 #: Relative tolerance of certificates (round-off in sums of duals).
 CERT_TOL = 1e-9
 #: A bound within this of an integer counts as that integer (LP round-off): it proves
@@ -246,6 +251,7 @@ class _Search:
         self.pool.add([np.array([j]) for j in range(1, self.m + 1)])
         self.stop_at = stop_at
         self.nodes = 0
+        _compile_cut_functions()
         self.cuts: list[tuple[int, int, int]] = []
         self.cut_bits = np.zeros(self.m + 1, dtype=np.uint64)  # bit t: in cut t's triple
         self.cut_memory = np.zeros(self.m + 1, dtype=np.uint64)  # bit t: in cut t's memory
@@ -627,6 +633,40 @@ def _cut_memory(triple: tuple[int, int, int], routes: list[np.ndarray]) -> set[i
 
 def _count(routes: list[list[int]] | None) -> float:
     return math.inf if routes is None else len(routes)
+
+
+def ready_within(seconds: float | None) -> bool:
+    """Whether a solve can start within ``seconds`` (None: no limit): the compiled pricing
+    is loaded in this process or held by numba's on-disk cache for the current source,
+    or ``seconds`` leaves room to compile it (:data:`COMPILE_SECONDS`)."""
+    return seconds is None or seconds >= COMPILE_SECONDS or all(map(_compiled, _jitted()))
+
+
+def _compile_cut_functions() -> None:
+    """Compile the subset-row cut functions, which a search may never call, on toy
+    arguments of the types a search passes: so that after one solve the on-disk cache
+    holds every compiled function and :func:`ready_within` holds."""
+    if not _compiled(_violated_triples):
+        _violated_triples(np.zeros((1, 3)), np.zeros(1), CUT_VIOLATION)
+    if not _compiled(ngroute._cut_counts):
+        bits = np.zeros(2, dtype=np.uint64)
+        ngroute.cut_coefficients([np.array([1])], bits, bits, 1)
+
+
+def _jitted() -> list[Dispatcher]:
+    """The compiled functions of the pricing and of the cut separation."""
+    return [f for f in (*vars(ngroute).values(), _violated_triples) if isinstance(f, Dispatcher)]
+
+
+def _compiled(function: Dispatcher) -> bool:
+    """Compiled in this process, or in the on-disk cache with the current source's stamp
+    (numba's index file is read as numba reads it; any error counts as not cached)."""
+    if function.signatures:
+        return True
+    try:
+        return bool(function._cache._cache_file._load_index())
+    except Exception:  # numba's cache internals: when they change, assume a compile
+        return False
 
 
 def _prepare(D: np.ndarray) -> tuple[np.ndarray, Merged]:

@@ -12,6 +12,9 @@ independently. Five methods:
   ``branchprice`` for :data:`BRANCHPRICE_FIRST` seconds, then ``setpart`` if that was
   not enough and the time left covers :func:`milp.setpart.expected_seconds`
   (``branchprice`` is often 5-50x faster there, ``setpart`` always done in 1-4 s); ``branchprice`` above, ``compact`` above its size limit;
+  on the first use after installation, when the time limit leaves no room to compile
+  ``branchprice``'s pricing (:data:`milp.branchprice.COMPILE_SECONDS`), ``setpart`` to 20
+  KPOIs and ``compact`` above;
 - ``branchprice``: branch-and-price over ng-routes (:mod:`milp.branchprice`);
 - ``compact``: the compact arc-flow model solved by HiGHS (:mod:`milp.arcflow`);
 - ``setpart``: Held-Karp route enumeration and set partitioning by inclusion-exclusion
@@ -92,7 +95,9 @@ def exact(
         return _setpart(model, instance, problem, clock, warm_start)
     from milp import branchprice  # numba: only when needed
 
-    if instance.n > branchprice.MAX_KPOIS:
+    if not branchprice.ready_within(clock.remaining()) and instance.n <= model.MAX_KPOIS:
+        return _setpart(model, instance, problem, clock, warm_start)  # no time to compile
+    if instance.n > branchprice.MAX_KPOIS or not branchprice.ready_within(clock.remaining()):
         return compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
     if instance.n > model.MAX_KPOIS:
         return branch_and_price(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
@@ -199,6 +204,12 @@ def branch_and_price(
     from milp import branchprice
 
     _check_size(instance, branchprice.MAX_KPOIS, "branchprice")
+    if not branchprice.ready_within(clock.remaining()):
+        routes = warm_start or warm_start_routes(instance, problem, clock, seed)
+        message = (f"branch-and-price not run: its pricing is compiled on first use (up to "
+                   f"{branchprice.COMPILE_SECONDS:g} s, then cached) and the time limit leaves less; "
+                   "these are best's routes")
+        return Solution(routes=routes or [], info={"model": "branchprice", "message": message})
     return _warm_started(branchprice, "branchprice", instance, problem, clock, seed, warm_start)
 
 

@@ -71,3 +71,35 @@ def test_branchprice_keeps_to_its_time_limit_warm_start_included():
     result = solve(instance, "tours", robots=2, method="branchprice", time_limit=3)
     assert time.perf_counter() - started < 3.3 + 0.5
     assert result.status in (Status.FEASIBLE, Status.OPTIMAL)
+
+
+def test_ready_within_needs_the_compiled_pricing_or_room_to_compile(monkeypatch):
+    from milp import branchprice
+
+    solve(generate.random_points(18, 1), robots=3, method="branchprice")  # compiles, fills the cache
+    assert branchprice.ready_within(0.1)
+    monkeypatch.setattr(branchprice, "_compiled", lambda function: False)  # a fresh installation
+    assert not branchprice.ready_within(branchprice.COMPILE_SECONDS - 1)
+    assert branchprice.ready_within(branchprice.COMPILE_SECONDS) and branchprice.ready_within(None)
+
+
+@pytest.mark.parametrize("n, model", [(18, "setpart"), (25, "compact")])
+def test_exact_skips_branchprice_when_its_compilation_does_not_fit(monkeypatch, n, model):
+    from milp import branchprice
+
+    monkeypatch.setattr(branchprice, "ready_within", lambda seconds: seconds is None)
+    instance = generate.random_points(n, 4)
+    started = time.perf_counter()
+    result = solve(instance, "paths", robots=5, time_limit=5)
+    assert time.perf_counter() - started < 5.5
+    assert result.info["model"] == model
+
+
+def test_branchprice_without_time_to_compile_answers_best_routes_and_says_why(monkeypatch):
+    from milp import branchprice
+
+    monkeypatch.setattr(branchprice, "ready_within", lambda seconds: seconds is None)
+    instance = generate.random_points(25, 4)
+    result = solve(instance, "tours", robots=2, method="branchprice", time_limit=2)
+    assert result.routes and result.status is Status.FEASIBLE
+    assert "compiled on first use" in result.info["message"]
