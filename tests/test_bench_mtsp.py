@@ -26,7 +26,8 @@ def test_reference_values_hold_the_published_cplex_bounds():
 def test_cell_eil51_seven_tours_is_proven_at_twice_c_max(tmp_path):
     # eil51, m = 7: the best known 112.0714 equals 2 c_max (data README), so a value at
     # 2 c_max is optimal; node 1 = (37, 52) is the start, the farthest node is 56.04 away.
-    row = section.solve_cell("eil51", 7, exact_seconds=2.0, bound_seconds=2.0, tours_dir=tmp_path)
+    row = section.solve_cell("eil51", 7, best_seconds=1.0, exact_seconds=2.0, bound_seconds=2.0,
+                             tours_dir=tmp_path)
     instance = read_instance(ROOT / "instances" / "tsplib" / "eil51.tsp")
     verdict = verify(instance, read_json(tmp_path / "eil51-m7.json"))
     assert verdict.robots <= 7 and verdict.makespan == pytest.approx(row["value"])
@@ -40,7 +41,7 @@ def test_cell_eil51_seven_tours_is_proven_at_twice_c_max(tmp_path):
 def test_cell_with_column_generation_bound_is_below_the_best_known():
     # eil51, m = 5: best known 118.1338 > 2 c_max, so the colgen bound runs; it must
     # stay below every known solution's value.
-    row = section.solve_cell("eil51", 5, exact_seconds=1.0, bound_seconds=2.0)
+    row = section.solve_cell("eil51", 5, best_seconds=0.5, exact_seconds=1.0, bound_seconds=2.0)
     assert not math.isnan(row["colgen bound"])
     assert row["2 c_max"] - 1e-9 <= row["bound"] <= 118.1338
     assert row["bound"] <= row["value"]
