@@ -93,21 +93,21 @@ def test_ratio_counts_unproven_peer_at_its_limit() -> None:
 
 def test_quick_section_on_tiny_grid(tmp_path, monkeypatch) -> None:
     tiny = [dict(n=5, seed=1, routes="paths", k=2, factor=None,
-                 models=("branchprice", "compact", "setpart", "mtz", "plain"), limit=5.0),
+                 models=("exact", "branchprice", "compact", "setpart", "mtz", "plain"), limit=5.0),
             dict(n=5, seed=1, routes="tours", k=None, factor=1.2,
-                 models=("branchprice", "compact", "setpart", "plain"), limit=5.0)]
+                 models=("exact", "branchprice", "compact", "setpart", "plain"), limit=5.0)]
     monkeypatch.setattr(exact_scaling, "grid", lambda quick: tiny)
     section = exact_scaling.run(Config(quick=True, figures=tmp_path, figures_link="fig"))
     frame = section.tables["exact_scaling"]
-    assert len(frame) == 9 and set(frame["status"]) == {"optimal"}
+    assert len(frame) == 11 and set(frame["status"]) == {"optimal"}
     for _, cell in frame.groupby("problem"):
         assert cell["objective"].max() - cell["objective"].min() <= 1e-7
     ratios = section.tables["exact_scaling_ratios"]
     compact = frame[frame["model"] == "compact"].set_index("problem")["seconds"]
-    setpart_s = frame[frame["model"] == "setpart"].set_index("problem")["seconds"]
-    for row in ratios.to_dict("records"):  # ours is set partitioning at n = 5
-        assert row["ours"] == "setpart" and row["setpart / ours"] == "-"
-        expected = compact[row["problem"]] / max(setpart_s[row["problem"]], 1e-3)
+    exact_s = frame[frame["model"] == "exact"].set_index("problem")["seconds"]
+    for row in ratios.to_dict("records"):  # ours is parcover's exact up to 20 KPOIs
+        assert row["ours"] == "exact" and row["exact / ours"] == "-"
+        expected = compact[row["problem"]] / max(exact_s[row["problem"]], 1e-3)
         assert row["compact / ours"] == f"{expected:.3g}"
     assert (tmp_path / "exact_scaling.png").exists()
     assert len(section.targets) == 5
