@@ -20,7 +20,7 @@ from parcover.errors import InputError
 from parcover.instance import Instance, check_whole, finite_float, short_repr
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.result import Result, RoutesKind, Status, gap
-from parcover.verify import InvalidSolution, verify
+from parcover.verify import InvalidSolution, route_costs, verify
 
 __all__ = ["solve", "METHODS", "MethodInfo", "SolverError", "register_method"]
 
@@ -91,7 +91,10 @@ def solve(
     seed
         Seed of randomised methods.
     **options
-        Method-specific options (e.g. ``trace=True`` for ``paper``).
+        Method-specific options (e.g. ``trace=True`` for ``paper``). ``warm_start``
+        (exact methods): routes to start from, as a result gives them (KPOI ids; the
+        start at either end is dropped), so ``warm_start=earlier.routes`` works;
+        refused unless they visit every KPOI once and fit the question.
 
     Returns
     -------
@@ -117,6 +120,8 @@ def solve(
     if unknown:
         raise InputError(f"Method {method!r} takes no option {unknown[0]!r}.")
     seed = check_whole(seed, "seed", 0)
+    if options.get("warm_start") is not None:
+        options["warm_start"] = _warm_start_indices(instance, problem, options["warm_start"])
     clock = _deadline(time_limit)
     started = time.perf_counter()
     limit = problem.effective_deadline(instance)
@@ -133,6 +138,29 @@ def solve(
         solution = info.function(instance, _at_most_n_robots(instance, problem), time_limit=seconds, seed=seed,
                                  **options)
     return build_result(instance, problem, method, solution, time.perf_counter() - started)
+
+
+def _warm_start_indices(instance: Instance, problem: Problem, routes: Any) -> list[list[int]]:
+    """A warm start given as KPOI ids (a result's routes) as KPOI indices; InputError
+    unless it visits every KPOI exactly once in routes the question allows."""
+    if not isinstance(routes, (list, tuple)) or not all(isinstance(r, (list, tuple)) for r in routes):
+        raise InputError("warm_start must be a list of routes, each a list of KPOI ids.")
+    try:
+        rows = [[instance.index(str(node)) for node in route] for route in routes]
+    except KeyError as exc:
+        raise InputError(f"warm_start names {exc.args[0]!r}, which is not a node of the instance.") from None
+    rows = [[i for i in row if i != 0] for row in rows]
+    rows = [row for row in rows if row]
+    if sorted(i for row in rows for i in row) != list(range(1, instance.n + 1)):
+        raise InputError("warm_start must visit every KPOI exactly once.")
+    if problem.robots is not None and len(rows) > problem.robots:
+        raise InputError(f"warm_start has {len(rows)} routes; the question allows {problem.robots}.")
+    limit = problem.effective_deadline(instance)
+    if limit is not None:
+        costs = route_costs(instance, rows, tours=problem.tours)
+        if not all(meets_deadline(c, limit) for c in costs):
+            raise InputError(f"warm_start has a route of cost {max(costs):g}, above the deadline {limit:g}.")
+    return rows
 
 
 def _at_most_n_robots(instance: Instance, problem: Problem) -> Problem:

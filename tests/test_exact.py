@@ -7,7 +7,7 @@ import time
 import highspy
 import pytest
 
-from parcover import Status, frontier, generate, solve
+from parcover import InputError, Status, frontier, generate, solve
 
 CASES = [generate.random_points(7, 11), generate.random_graph(6, 5, virtual=8)]
 
@@ -103,3 +103,18 @@ def test_branchprice_without_time_to_compile_answers_best_routes_and_says_why(mo
     result = solve(instance, "tours", robots=2, method="branchprice", time_limit=2)
     assert result.routes and result.status is Status.FEASIBLE
     assert "compiled on first use" in result.info["message"]
+
+
+def test_warm_start_takes_a_results_routes_and_refuses_bad_ones():
+    instance = generate.random_points(9, 2)
+    earlier = solve(instance, "tours", robots=3, method="best")
+    again = solve(instance, "tours", robots=3, method="compact", warm_start=earlier.routes)
+    assert again.status is Status.OPTIMAL and again.value <= earlier.value * (1 + 1e-9)
+    kpois = list(instance.kpois)
+    for bad, why in [([kpois[:-1]], "every KPOI exactly once"), ([kpois + ["nowhere"]], "not a node"),
+                     ([[k] for k in kpois], "allows 3"), ("abc", "list of routes")]:
+        with pytest.raises(InputError, match=why):
+            solve(instance, "tours", robots=3, method="compact", warm_start=bad)
+    # within a deadline: a route above it is refused
+    with pytest.raises(InputError, match="above the deadline"):
+        solve(instance, "tours", deadline=2 * instance.c_max, method="compact", warm_start=[kpois])
