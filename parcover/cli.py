@@ -16,7 +16,7 @@ from typing import NoReturn
 from parcover import __version__
 from milp.deadline import Deadline
 from parcover import generate as gen
-from parcover.certify import Certificate, certify
+from parcover.certify import Certificate
 from parcover.errors import InputError
 from parcover.frontier import frontier
 from parcover.result import Result
@@ -117,14 +117,19 @@ def _verify(args: argparse.Namespace) -> int:
     solution = read_json(args.solution)
     if not (isinstance(solution, dict) and "routes" in solution) and not isinstance(solution, list):
         raise FileFormatError(f"{args.solution}: not a solution: expected a JSON object with 'routes'.")
-    if _answer_without_routes(solution):
-        return _verify_answer_without_routes(instance, solution, args)
     try:
         verdict = verify(instance, solution, certify=args.certify, time_limit=args.time_limit)
     except InvalidSolution as exc:
         for problem in exc.problems:
             print(f"invalid: {problem}")
         return 1
+    if verdict.makespan is None:  # an infeasible or unknown answer without routes
+        status = solution["status"]
+        if verdict.certificate is None:
+            print(f"valid: no routes, status {status} (not re-proved without --certify)")
+            return 0
+        print(f"no routes, status {status}")
+        return _print_certificate(verdict.certificate)
     summary = (
         f"{verdict.robots} robot{'s' if verdict.robots != 1 else ''}, makespan {verdict.makespan:.10g}"
         f" ({verdict.routes_kind})"
@@ -136,26 +141,6 @@ def _verify(args: argparse.Namespace) -> int:
         return 1
     print(f"valid: {summary}")
     return 0 if verdict.certificate is None else _print_certificate(verdict.certificate)
-
-
-def _answer_without_routes(solution: object) -> bool:
-    """A genuine ``infeasible`` or ``unknown`` answer: no routes, no makespan, no robots."""
-    return (
-        isinstance(solution, dict)
-        and solution.get("routes") == []
-        and solution.get("status") in ("infeasible", "unknown")
-        and solution.get("makespan") is None
-        and solution.get("robots") in (None, 0)
-    )
-
-
-def _verify_answer_without_routes(instance: Instance, solution: dict, args: argparse.Namespace) -> int:
-    """Nothing to recompute; ``--certify`` re-proves an ``infeasible`` claim."""
-    print(f"no routes, status {solution['status']}" if args.certify
-          else f"valid: no routes, status {solution['status']} (not re-proved without --certify)")
-    if not args.certify:
-        return 0
-    return _print_certificate(certify(instance, solution, time_limit=args.time_limit))
 
 
 def _print_certificate(certificate: Certificate) -> int:

@@ -57,7 +57,7 @@ class Verdict:
 
     routes_kind: RoutesKind
     robots: int
-    makespan: float
+    makespan: float | None  # None for an answer without routes (infeasible or unknown)
     route_costs: list[float]
     total_cost: float
     deadline: float | None
@@ -131,6 +131,10 @@ def verify(
     Verdict
         Costs, makespan, robots and the constraint excesses.
 
+        An ``infeasible`` or ``unknown`` answer without routes (and without a makespan
+        or robots) has nothing to recompute: 0 robots, ``makespan`` None; with
+        ``certify`` its ``infeasible`` claim is re-proved.
+
     Raises
     ------
     InvalidSolution
@@ -138,6 +142,16 @@ def verify(
         (every problem is listed).
     """
     routes, fields = _routes_and_fields(solution)
+    if answer_without_routes(routes, fields):
+        certificate = None
+        if certify:
+            from parcover.certify import certify as recheck
+
+            certificate = recheck(instance, fields, time_limit=time_limit)
+        return Verdict(routes_kind=fields.get("routes_kind") or "paths", robots=0, makespan=None,
+                       route_costs=[], total_cost=0.0, deadline=fields.get("deadline"),
+                       robots_limit=fields.get("robots_limit"), deadline_excess=0.0, late_routes=[],
+                       robots_excess=0, certificate=certificate)
     kind = routes_kind or fields.get("routes_kind") or _infer_kind(routes, instance.start)
     if kind not in ("paths", "tours"):
         raise InvalidSolution([f"unknown routes_kind {kind!r}; expected 'paths' or 'tours'"])
@@ -269,12 +283,26 @@ def route_costs(instance: Instance, routes: Sequence[Sequence[int]], *, tours: b
     return costs
 
 
+def answer_without_routes(routes: Any, fields: Mapping[str, Any]) -> bool:
+    """A genuine ``infeasible`` or ``unknown`` answer: no routes, no makespan, no robots."""
+    return (
+        isinstance(routes, list) and routes == []
+        and fields.get("status") in ("infeasible", "unknown")
+        and fields.get("makespan") is None
+        and fields.get("robots") in (None, 0)
+    )
+
+
 def _routes_and_fields(solution: Any) -> tuple[list[Any], dict[str, Any]]:
     if isinstance(solution, Result):
         return solution.routes, {
             "routes_kind": solution.routes_kind,
+            "objective": solution.objective,
             "deadline": solution.deadline,
             "robots_limit": solution.robots_limit,
+            "status": solution.status.value,
+            "makespan": solution.makespan,
+            "robots": solution.robots,
         }
     if isinstance(solution, Mapping):
         if "routes" not in solution:

@@ -165,3 +165,19 @@ def test_certify_refutes_a_false_infeasible_claim_without_routes(capsys, files):
     assert run_verify(capsys, files, claimed)[0] == 0  # nothing to recompute without routes
     code, out = run_verify(capsys, files, claimed, "--certify")
     assert code == 1 and "claimed infeasible" in out, out
+
+
+def test_the_api_verifies_an_answer_without_routes_as_the_cli_does():
+    # A deadline of half c_max cannot be met (some KPOI is c_max away): infeasible, no routes.
+    instance = pc.generate.random_points(6, 1)
+    result = pc.solve(instance, "paths", deadline=0.5 * instance.c_max)
+    assert result.status is pc.Status.INFEASIBLE and not result.routes
+    for solution in (result, json.loads(result.to_json())):
+        verdict = pc.verify(instance, solution)
+        assert verdict.valid and verdict.robots == 0 and verdict.makespan is None
+    certified = pc.verify(instance, json.loads(result.to_json()), certify=True, time_limit=10)
+    assert certified.certificate.outcome == "certified"
+    # routes missing from an answer that claims a makespan are still refused
+    claimed = {**json.loads(result.to_json()), "status": "feasible", "makespan": 3.0}
+    with pytest.raises(pc.InvalidSolution):
+        pc.verify(instance, claimed)
