@@ -173,18 +173,26 @@ class _Pool:
             self._incidence = None
         return range(before, len(self.orders))
 
-    def fitting(self, budget: float, node: _Node, among: range | None = None) -> list[int]:
-        """Columns (of ``among``, default all) within ``budget`` using only arcs ``node``
-        allows."""
+    def allows(self, node: _Node, columns: list[int]) -> np.ndarray:
+        """Which of ``columns`` use only arcs ``node`` allows."""
+        forbidden = (~node.allowed).ravel().astype(np.float64)
+        return self._incidence_matrix()[columns] @ forbidden == 0
+
+    def _incidence_matrix(self) -> sparse.csr_matrix:
         if self._incidence is None:
             rows = np.repeat(np.arange(len(self.arcs)), [len(a) for a in self.arcs])
             self._incidence = sparse.csr_matrix(
                 (np.ones(len(rows)), (rows, np.concatenate(self.arcs))),
                 shape=(len(self.arcs), (self.m + 1) ** 2))
+        return self._incidence
+
+    def fitting(self, budget: float, node: _Node, among: range | None = None) -> list[int]:
+        """Columns (of ``among``, default all) within ``budget`` using only arcs ``node``
+        allows."""
         forbidden = (~node.allowed).ravel().astype(np.float64)
         among = range(len(self)) if among is None else among
         picked = slice(among.start, among.stop)
-        ok = (self._incidence[picked] @ forbidden == 0) & (self.lengths[picked] <= budget)
+        ok = (self._incidence_matrix()[picked] @ forbidden == 0) & (self.lengths[picked] <= budget)
         return (np.flatnonzero(ok) + among.start).tolist()
 
 
@@ -233,6 +241,7 @@ class _LpOutcome:
     columns: list[int]
     x: np.ndarray
     why: str
+    master: highspy.Highs | None = None  # the master LP just solved (set when why is "solved")
 
 
 def _rounded_up(bound: float) -> float:
@@ -334,7 +343,7 @@ class _Search:
             duals = np.concatenate((np.maximum(row_dual[:self.m], 0.0), np.maximum(-row_dual[self.m:], 0.0)))
             x = np.asarray(h.getSolution().col_value, dtype=np.float64)
             if _rounded_up(bound) >= _rounded_up(value) or bound >= value * (1 - 1e-7):
-                return _LpOutcome(bound, value, columns, x, "solved")
+                return _LpOutcome(bound, value, columns, x, "solved", h)
             if self.out_of_time():
                 return _LpOutcome(bound, value, columns, x, "time limit")
             found = 0
@@ -356,7 +365,7 @@ class _Search:
                 # the clock stopped the exact pricing
                 why = ("solved" if bound >= value * (1 - 1e-7)
                        else "time limit" if self.out_of_time() else "pricing stalled")
-                return _LpOutcome(bound, value, columns, x, why)
+                return _LpOutcome(bound, value, columns, x, why, h)
 
     def _farley(self, y: np.ndarray, best: float) -> float:
         """Farley's bound (4) for duals ``y = (pi, sigma)`` whose best route prize is ``best``:
@@ -470,13 +479,14 @@ class _Search:
             return None
         return first_visits([self.pool.orders[c] for c in chosen])
 
-    def branching_arc(self, node: _Node, outcome: _LpOutcome, budget: float,
-                      target: int) -> tuple[int, int] | None:
+    def branching_arc(self, node: _Node, outcome: _LpOutcome, target: int) -> tuple[int, int] | None:
         """The arc to branch on: among the :data:`STRONG_CANDIDATES` most fractional, the
-        one whose two children raise the restricted master's LP value most (product of
-        the gains, each child's value capped at ``target + 1``, where it closes; no
-        pricing in the children: the pool's columns only). Strong branching: Achterberg,
-        Koch and Martin, "Branching rules revisited", Oper. Res. Letters 33 (2005)."""
+        one whose two children raise the node's master LP value most (product of the
+        gains, each child's value capped at ``target + 1``, where it closes). A child's
+        value is the node's master with the columns it forbids fixed at 0, re-solved from
+        the node's optimal basis (:meth:`_child_value`; no pricing in the children).
+        Strong branching: Achterberg, Koch and Martin, "Branching rules revisited", Oper.
+        Res. Letters 33 (2005)."""
         candidates = self.fractional_arcs(outcome)[:STRONG_CANDIDATES]
         if len(candidates) <= 1:
             return candidates[0] if candidates else None
@@ -484,26 +494,27 @@ class _Search:
         for arc in candidates:
             if self.out_of_time():
                 break
-            gains = [max(min(self._restricted_value(child, budget), target + 1.0) - outcome.value, 1e-6)
-                     for child in node.children(arc, tours=self.tours)]
+            values = [self._child_value(outcome, child) for child in node.children(arc, tours=self.tours)]
+            gains = [max(min(v, target + 1.0) - outcome.value, 1e-6) for v in values]
             if gains[0] * gains[1] > best:
                 best, chosen = gains[0] * gains[1], arc
         return chosen
 
-    def _restricted_value(self, node: _Node, budget: float) -> float:
-        """The master LP's value over the pool's columns that ``node`` allows (inf when
-        they leave a KPOI uncovered)."""
-        columns = self.pool.fitting(budget, node)
-        covered = np.zeros(self.m, dtype=bool)
-        for c in columns:
-            covered[self.pool.orders[c] - 1] = True
-        if not covered.all():
-            return math.inf
-        h = self._master(columns)
+    def _child_value(self, outcome: _LpOutcome, child: _Node) -> float:
+        """The node's master LP value with the columns ``child`` forbids fixed at 0,
+        re-solved from the node's optimal basis (inf when infeasible); the bounds are
+        restored after."""
+        banned = np.flatnonzero(~self.pool.allows(child, outcome.columns)).astype(np.int32)
+        if len(banned) == 0:
+            return outcome.value
+        h = outcome.master
+        assert h is not None, "branching on a node whose master LP was not solved"
+        h.changeColsBounds(len(banned), banned, np.zeros(len(banned)), np.zeros(len(banned)))
         h.run()
-        if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
-            return math.inf
-        return float(h.getInfo().objective_function_value)
+        solved = h.getModelStatus() == highspy.HighsModelStatus.kOptimal
+        value = float(h.getInfo().objective_function_value) if solved else math.inf
+        h.changeColsBounds(len(banned), banned, np.zeros(len(banned)), np.full(len(banned), highspy.kHighsInf))
+        return value
 
     def fractional_arcs(self, outcome: _LpOutcome) -> list[tuple[int, int]]:
         """The arcs with fractional flow, closest to 1/2 first (``(i, 0)``: ending at ``i``).
@@ -581,7 +592,7 @@ class _Search:
                 continue
             if self.integral_routes(outcome) is not None:
                 continue  # an integral LP optimum: nothing better below this node
-            arc = self.branching_arc(node, outcome, budget, target)
+            arc = self.branching_arc(node, outcome, target)
             if arc is None:
                 unresolved = True
                 continue

@@ -110,14 +110,18 @@ def test_growing_the_neighbourhoods_finds_the_ng_optimum(seed, tours):
 
 def test_strong_branching_reaches_setparts_optimum(monkeypatch):
     """Strong branching only changes which arc is branched on: the search still ends at
-    the optimum, and every arc picked is among the candidates (the most fractional)."""
+    the optimum, every arc picked is among the candidates (the most fractional), and the
+    node's master is left as it was (its children are scored by fixing columns at 0 and
+    restoring them: solved again, it has the node's LP value)."""
     candidates = branchprice.STRONG_CANDIDATES
-    picked = []
+    picked, restored = [], []
     choose = branchprice._Search.branching_arc
 
-    def recording(search, node, outcome, budget, target):
-        arc = choose(search, node, outcome, budget, target)
+    def recording(search, node, outcome, target):
+        arc = choose(search, node, outcome, target)
         picked.append(arc in search.fractional_arcs(outcome)[:candidates])
+        outcome.master.run()
+        restored.append(outcome.master.getInfo().objective_function_value - outcome.value)
         return arc
 
     monkeypatch.setattr(branchprice._Search, "branching_arc", recording)
@@ -129,6 +133,7 @@ def test_strong_branching_reaches_setparts_optimum(monkeypatch):
         assert ours.status == "optimal"
         assert ours.objective == pytest.approx(setpart.min_makespan(D, k, tours=False).objective, rel=1e-9)
     assert picked and all(picked)
+    assert max(map(abs, restored)) < 1e-7
 
 
 def clustered(n: int, seed: int) -> np.ndarray:
