@@ -285,9 +285,9 @@ def warm_start_routes(
 ) -> list[list[int]] | None:
     """Routes from the ``best`` heuristic when it is available, else ``None``; it gets
     :data:`WARM_SHARE` of what is left of ``time_limit`` and ``rounds`` ruin-and-recreate
-    rounds (default :data:`WARM_ROUNDS`), and stops as soon as it meets
-    the trivial lower bound (:func:`parcover.bounds.lower_bound`): measured on the
-    exact-scaling grid, most small questions end there, in a fraction of the rounds."""
+    rounds (default :data:`WARM_ROUNDS`), and stops as soon as it meets the trivial lower
+    bound (:func:`parcover.bounds.lower_bound`), as a quarter of the questions at n = 10-15
+    do (29 of 120 measured, mostly k = 5): those then take a fraction of the rounds."""
     from parcover.bounds import lower_bound
     from parcover.solve import available_methods
 
@@ -295,10 +295,9 @@ def warm_start_routes(
     if "best" not in methods:
         return None
     budget = Deadline.of(time_limit).fraction(WARM_SHARE)
-    solution = methods["best"].function(
-        instance, problem, time_limit=budget, seed=seed, iterations=WARM_ROUNDS[problem.objective] if rounds is None else rounds,
-        target=lower_bound(instance, problem),
-    )
+    rounds = WARM_ROUNDS[problem.objective] if rounds is None else rounds
+    solution = methods["best"].function(instance, problem, time_limit=budget, seed=seed, iterations=rounds,
+                                        target=lower_bound(instance, problem))
     return solution.routes or None
 
 
