@@ -42,7 +42,7 @@ def frontier(
         options = {}
         if warm and points and points[-1].result is not None and points[-1].result.routes:
             # k - 1 robots' routes are valid with k robots: a warm start and an upper bound
-            options["warm_start"] = _index_routes(instance, points[-1].result.routes)
+            options["warm_start"] = points[-1].result.routes
         result = solve(instance, routes, robots=k, method=method, time_limit=time_limit, seed=seed, **options)
         if progress is not None:
             progress(k, result)
@@ -50,8 +50,3 @@ def frontier(
         if result.makespan is not None and meets_deadline(result.makespan, least):
             break
     return Frontier(instance.name, routes, method, points, time.perf_counter() - started)
-
-
-def _index_routes(instance: Instance, routes: list[list[str]]) -> list[list[int]]:
-    """KPOI indices of id routes (the start dropped)."""
-    return [[instance.index(v) for v in route if v != instance.start] for route in routes]
