@@ -217,7 +217,7 @@ def run(config: Config) -> Section:
         "`optimal` is exact to (n+1)/1e4). Seconds are each solver's own wall time (CP-SAT's "
         "excludes its process start-up).",
         f"`ours` is what `parcover`'s default `exact` method runs: up to {SETPART_MAX} KPOIs "
-        "`exact` itself (from 14 KPOIs a check of `best`'s constructions against the trivial "
+        "`exact` itself (for the least makespan from 14 KPOIs a check of `best`'s constructions against the trivial "
         f"bound, then set partitioning up to {parcover_exact.SETPART_FIRST} KPOIs, branch-and-price "
         "for 2 s and set partitioning above), above that branch-and-price, which is all `exact` "
         "runs there. The ratios are each model's time over "

@@ -6,9 +6,9 @@ them the matrix, a warm start, and maps their answer back to a
 independently. Five methods:
 
 - ``exact`` (the default): ``setpart`` up to :data:`SETPART_FIRST` KPOIs, where it is
-  the fastest (a fraction of a second), after checking from n = 14 whether ``best``'s
-  constructions already meet the trivial lower bound (``info["model"]`` is then
-  ``"bounds"``); up to :data:`milp.setpart.MAX_KPOIS` KPOIs
+  the fastest (a fraction of a second), after checking, for the least makespan from
+  n = 14, whether ``best``'s constructions already meet the trivial lower bound
+  (``info["model"]`` is then ``"bounds"``); up to :data:`milp.setpart.MAX_KPOIS` KPOIs
   ``branchprice`` for :data:`BRANCHPRICE_FIRST` seconds, then ``setpart`` if that was
   not enough and the time left covers :func:`milp.setpart.expected_seconds`
   (``branchprice`` is often 5-50x faster there, ``setpart`` always done in 1-4 s); ``branchprice`` above, ``compact`` above its size limit;
@@ -52,11 +52,12 @@ WARM_ROUNDS = {"makespan": 200, "robots": 20}
 
 #: ``exact`` runs ``setpart`` alone up to this many KPOIs.
 SETPART_FIRST = 16
-#: ``exact`` first checks whether ``best``'s polished constructions meet the trivial
-#: lower bound when ``setpart`` is expected to take at least this long (n >= 14):
-#: measured on n = 10, 15, 16 (seeds 1-3, 11-13, both questions, paths and tours), the
-#: check doubled the time at n = 10 (setpart takes 3 ms there) and saved 3-4% at
-#: n = 15-16, where it settles 8-20% of the questions 10-20x faster.
+#: For the least makespan, ``exact`` first checks whether ``best``'s polished
+#: constructions meet the trivial lower bound when ``setpart`` is expected to take at
+#: least this long (n >= 14). Measured (seeds 1-3, 11-13, paths and tours): it doubled the
+#: time at n = 10 (setpart takes 3 ms there); at n = 14-16 it settles 19 of 109 makespan
+#: questions (mostly k = 5) 10-20x faster, about as much as the misses cost (0.02 s
+#: each), but only 2 of 72 fewest-robots questions, so it is not tried for those.
 QUICK_CHECK_SECONDS = 0.02
 #: Seconds ``exact`` gives ``branchprice`` before ``setpart`` on 17 to 20 KPOIs (at most
 #: half of the time limit): measured on n = 17-20, ``branchprice`` proves almost every
@@ -88,7 +89,7 @@ def exact(
     if export_model:
         _export(instance, problem, export_model)
     if instance.n <= SETPART_FIRST:
-        if model.expected_seconds(instance.n) >= QUICK_CHECK_SECONDS:
+        if problem.objective == "makespan" and model.expected_seconds(instance.n) >= QUICK_CHECK_SECONDS:
             settled = _meets_trivial_bound(instance, problem, clock, seed)
             if settled is not None:
                 return settled
