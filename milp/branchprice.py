@@ -106,8 +106,9 @@ __all__ = ["min_robots", "min_makespan", "ready_within", "MAX_KPOIS", "COMPILE_S
 #: Largest number of (merged) KPOIs the pricing's bit masks are tested with.
 MAX_KPOIS = 200
 #: Seconds to allow for compiling the pricing on its first use, when numba's on-disk cache
-#: does not hold it yet (measured 9.9 s on a shared 2-core EPYC, 7.1 s of it the labelling; twice that for slower
-#: machines). Later runs load it from the cache in a fraction of a second.
+#: does not hold it yet (measured 9.9 s on a shared 2-core EPYC, 7.1 s of it the
+#: labelling; twice that for slower machines). Later runs load it from the cache in a
+#: fraction of a second.
 COMPILE_SECONDS = 20.0
 #: Relative tolerance of certificates (round-off in sums of duals).
 CERT_TOL = 1e-9

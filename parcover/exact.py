@@ -96,9 +96,10 @@ def exact(
         return _setpart(model, instance, problem, clock, warm_start)
     from milp import branchprice  # numba: only when needed
 
-    if not branchprice.ready_within(clock.remaining()) and instance.n <= model.MAX_KPOIS:
-        return _setpart(model, instance, problem, clock, warm_start)  # no time to compile
-    if instance.n > branchprice.MAX_KPOIS or not branchprice.ready_within(clock.remaining()):
+    compiled_in_time = branchprice.ready_within(clock.remaining())
+    if not compiled_in_time and instance.n <= model.MAX_KPOIS:
+        return _setpart(model, instance, problem, clock, warm_start)
+    if instance.n > branchprice.MAX_KPOIS or not compiled_in_time:
         return compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
     if instance.n > model.MAX_KPOIS:
         return branch_and_price(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
@@ -114,9 +115,9 @@ def exact(
 def _meets_trivial_bound(instance: Instance, problem: Problem, clock: Deadline,
                          seed: int) -> Solution | None:
     """Optimal routes without a model when ``best``'s polished constructions (no
-    ruin-and-recreate round) meet the trivial lower bound (Prop. 1 and the spanning-tree
-    bound, :func:`parcover.bounds.lower_bound`), else ``None``. ``info["model"]`` is
-    ``"bounds"``: the bound proved the answer."""
+    ruin-and-recreate round) meet the trivial makespan bound (Prop. 1 and the
+    spanning-tree bound, :func:`parcover.bounds.lower_bound`), else ``None``.
+    ``info["model"]`` is ``"bounds"``: the bound proved the answer."""
     from parcover.bounds import lower_bound
     from parcover.verify import route_costs
 
@@ -124,11 +125,7 @@ def _meets_trivial_bound(instance: Instance, problem: Problem, clock: Deadline,
     if not routes:
         return None
     bound = lower_bound(instance, problem)
-    if problem.objective == "makespan":
-        met = meets_deadline(max(route_costs(instance, routes, tours=problem.tours)), bound)
-    else:
-        met = len(routes) <= bound
-    if not met:
+    if not meets_deadline(max(route_costs(instance, routes, tours=problem.tours)), bound):
         return None
     return Solution(routes=routes, bound=bound, status=Status.OPTIMAL,
                     info={"model": "bounds", "message": "best's construction meets the trivial lower bound"})
