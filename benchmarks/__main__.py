@@ -20,7 +20,7 @@ import sys
 import time
 from pathlib import Path
 
-from benchmarks.common import ROOT, Config, Section
+from benchmarks.common import ROOT, Config, Section, compile_pricing
 
 SECTIONS = ("greedy_scaling", "exact_scaling", "exact_targets", "heuristic_quality", "mtsp_literature", "maps_speed")
 PACKAGES = ("numpy", "scipy", "pandas", "highspy", "cvxpy", "networkx", "ortools", "pyvrp")
@@ -43,6 +43,7 @@ def main(argv: list[str] | None = None) -> int:
     config = Config(quick=args.quick, figures=figures, figures_link=figures.name)
     command = "python -m benchmarks " + " ".join(shlex.quote(a) for a in (sys.argv[1:] if argv is None else argv))
     commit = _commit()  # before the run: its own reports would count as local changes
+    compile_pricing(config)
     for name in names:
         config.log(f"[benchmarks] {name} ...")
         began = time.perf_counter()

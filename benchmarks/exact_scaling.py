@@ -215,7 +215,8 @@ def run(config: Config) -> Section:
         "`benchmarks/naive_models.py`), and OR-Tools CP-SAT (`benchmarks/peers/cpsat.py`, 2 "
         "workers, distances x 1e4 rounded down: its bound is valid for the real problem, its "
         "`optimal` is exact to (n+1)/1e4). Seconds are each solver's own wall time (CP-SAT's "
-        "excludes its process start-up).",
+        "excludes its process start-up; branch-and-price's numba pricing is compiled, or loaded "
+        "from its cache, before the first cell, `benchmarks.common.compile_pricing`).",
         f"`ours` is what `parcover`'s default `exact` method runs: up to {SETPART_MAX} KPOIs "
         "`exact` itself (for the least makespan from 14 KPOIs a check of `best`'s constructions against the trivial "
         f"bound, then set partitioning up to {parcover_exact.SETPART_FIRST} KPOIs, branch-and-price "

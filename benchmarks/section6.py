@@ -55,7 +55,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 import parcover  # noqa: E402
-from benchmarks.common import ROOT, Config, Section, markdown_table  # noqa: E402
+from benchmarks.common import ROOT, Config, Section, compile_pricing, markdown_table  # noqa: E402
 from parcover.instance import Instance  # noqa: E402
 from parcover.io import write_instance  # noqa: E402
 from parcover.maps import instance_from_map  # noqa: E402
@@ -630,6 +630,7 @@ def main(argv: list[str] | None = None) -> int:
     figures.mkdir(parents=True, exist_ok=True)
     config = Config(quick=args.quick, figures=figures, figures_link=figures.name)
     settings = QUICK if args.quick else FULL
+    compile_pricing(config)
     section = run(config, settings)
     for table, frame in section.tables.items():
         frame.to_csv(figures / f"{table}.csv", index=False)
