@@ -83,6 +83,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import highspy
@@ -103,6 +104,9 @@ from milp.warmstart import nearest_neighbour_order, split_min_makespan
 
 __all__ = ["min_robots", "min_makespan", "ready_within", "compile_pricing", "MAX_KPOIS", "COMPILE_SECONDS"]
 
+#: A heuristic asked for routes (KPOIs ``1..n``) with at most the given number of routes
+#: within the deadline, or ``None``.
+Improve = Callable[[int], "list[list[int]] | None"]
 #: Largest number of (merged) KPOIs the pricing's bit masks are tested with.
 MAX_KPOIS = 200
 #: Seconds to allow for compiling the pricing on its first use, when numba's on-disk cache
@@ -546,12 +550,14 @@ class _Search:
         return fewest_covering(orders, self.m, time_limit)
 
     def fewest_routes(self, budget: float, incumbent: list[list[int]] | None, target: int,
-                      *, first: bool) -> tuple[list[list[int]] | None, int | None, str]:
+                      *, first: bool, improve: Improve | None = None,
+                      ) -> tuple[list[list[int]] | None, int | None, str]:
         """Branch-and-price for the fewest routes within ``budget``.
 
         Searches for routes within ``budget``, at most ``target`` of them (fewer than
         ``incumbent`` when it is given: ``target`` moves down with every better solution).
-        With ``first``, returns at the first solution found.
+        With ``first``, returns at the first solution found. ``improve``, when the root
+        does not prove the incumbent, is asked once for routes meeting the root's bound.
 
         Returns
         -------
@@ -577,6 +583,8 @@ class _Search:
                 root_bound = max(1, rounded) if math.isfinite(rounded) else None
                 if rounded <= target:
                     candidates.append(self.integer_master(budget, self._root_ip_time()))
+                if rounded <= target and improve is not None:
+                    candidates.append(improve(max(1, int(rounded))))
             if outcome.why == "solved" and rounded <= target:
                 candidates.append(self.integral_routes(outcome))
             for routes in candidates:
@@ -729,7 +737,7 @@ def _result(status: str, merged: Merged, D: np.ndarray, routes: list[list[int]] 
 
 def min_robots(
     D: np.ndarray, deadline: float, *, tours: bool, time_limit: float | None = None,
-    warm_start: list[list[int]] | None = None,
+    warm_start: list[list[int]] | None = None, improve: Improve | None = None,
 ) -> MilpResult:
     """Fewest routes whose costs all meet ``deadline``, by branch-and-price.
 
@@ -745,6 +753,10 @@ def min_robots(
         Seconds for the whole call.
     warm_start : list of list of int, optional
         Routes (KPOIs ``1..n``) within the deadline: the first incumbent.
+    improve : callable, optional
+        When the root's bound does not prove the incumbent, called once with that bound
+        (rounded up): routes within the deadline that meet it, if it finds some (a
+        heuristic that only runs when the bound leaves room: the warm start can be cheap).
 
     Returns
     -------
@@ -769,7 +781,9 @@ def min_robots(
     if len(start) <= trivial:
         return _result("optimal", merged, D, start, len(start), len(start), 0, began,
                        "warm start meets the spanning-tree bound")
-    routes, root, outcome = search.fewest_routes(budget, start, len(start) - 1, first=False)
+    better = None if improve is None else (
+        lambda floor: _checked_start(merged, D, improve(floor), tours=tours, deadline=deadline, k=None))
+    routes, root, outcome = search.fewest_routes(budget, start, len(start) - 1, first=False, improve=better)
     bound = max(trivial, root or 1)
     if outcome == "exhausted" or len(routes) <= bound:
         return _result("optimal", merged, D, routes, len(routes), len(routes), search.nodes, began,

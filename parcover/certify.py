@@ -36,12 +36,12 @@ class Certificate:
     reasons: list[str] = field(default_factory=list)
 
 
-def certifier_for(instance: Instance, method: str | None) -> str:
-    """The exact method independent of ``method`` (module docstring)."""
+def certifier_for(instance: Instance, method: str | None, objective: str) -> str:
+    """The exact method independent of ``method`` on ``objective`` (module docstring)."""
     from milp.setpart import MAX_KPOIS
     from parcover.exact import exact_models
 
-    used = {method} | (exact_models(instance.n) if method == "exact" else set())
+    used = {method} | (exact_models(instance.n, objective) if method == "exact" else set())
     candidates = (("setpart",) if instance.n <= MAX_KPOIS else ()) + ("branchprice", "compact")
     return next((c for c in candidates if c not in used), "compact")
 
@@ -59,7 +59,7 @@ def certify(instance: Instance, fields: Mapping[str, Any], *, time_limit: float 
         return Certificate("nothing to certify", None)
     objective = fields.get("objective")
     kind = fields.get("routes_kind", "paths")
-    method = certifier_for(instance, fields.get("method"))
+    method = certifier_for(instance, fields.get("method"), "makespan" if objective == "makespan" else "robots")
     if objective == "makespan":
         answer = solve(instance, kind, robots=fields.get("robots_limit"), method=method, time_limit=time_limit)
         claimed = fields.get("makespan")

@@ -5,7 +5,8 @@ them the matrix, a warm start, and maps their answer back to a
 :class:`~parcover.problem.Solution`, which :func:`parcover.solve` then verifies
 independently. Five methods:
 
-- ``exact`` (the default): ``setpart`` up to :data:`SETPART_FIRST` KPOIs, where it is
+- ``exact`` (the default): ``setpart`` up to :data:`SETPART_FIRST` KPOIs (16 for the
+  least makespan, 14 for the fewest robots), where it is
   the fastest (a fraction of a second), after checking, for the least makespan from
   n = 14, whether ``best``'s constructions already meet the trivial lower bound
   (``info["model"]`` is then ``"bounds"``); up to :data:`milp.setpart.MAX_KPOIS` KPOIs
@@ -15,7 +16,9 @@ independently. Five methods:
   on the first use after installation, when the time limit leaves no room to compile
   ``branchprice``'s pricing (:data:`milp.branchprice.COMPILE_SECONDS`), ``setpart`` to 20
   KPOIs and ``compact`` above;
-- ``branchprice``: branch-and-price over ng-routes (:mod:`milp.branchprice`);
+- ``branchprice``: branch-and-price over ng-routes (:mod:`milp.branchprice`); for the
+  fewest robots up to :data:`ROOT_FIRST_MAX` KPOIs it starts from ``best``'s
+  construction and runs ``best``'s rounds only if the root bound leaves room;
 - ``compact``: the compact arc-flow model solved by HiGHS (:mod:`milp.arcflow`);
 - ``setpart``: Held-Karp route enumeration and set partitioning by inclusion-exclusion
   counting (:mod:`milp.setpart`), an exact method independent of the compact model,
@@ -50,8 +53,21 @@ _STATUS = {"optimal": Status.OPTIMAL, "infeasible": Status.INFEASIBLE, "unknown"
 WARM_SHARE = 0.1
 WARM_ROUNDS = {"makespan": 200, "robots": 20}
 
-#: ``exact`` runs ``setpart`` alone up to this many KPOIs.
-SETPART_FIRST = 16
+#: For the fewest robots up to this many KPOIs, ``branchprice`` starts from ``best``'s
+#: construction alone and runs ``best``'s rounds only when its root bound does not prove
+#: that construction (:func:`milp.branchprice.min_robots`' ``improve``): there the root is
+#: cheaper than the rounds. Measured (n = 20-50, seeds 1-3 and 11-13, paths and tours,
+#: 1.0 and 1.2 x the least makespan): at n = 20-30 1.6x and 2.1x faster in all (3.0 ->
+#: 1.9 s, 3.2 -> 1.5 s; 5 of 48 questions slower, by at most 0.05 s); at n = 40-50 a
+#: wash (17.4 -> 16.6 s, 27.2 -> 29.7 s), where long tours make a root without a good
+#: incumbent dear (n = 50 seed 11 tours at 1.2 x: 1.3 -> 5.2 s).
+ROOT_FIRST_MAX = 30
+#: ``exact`` runs ``setpart`` alone up to this many KPOIs, per objective. For the fewest
+#: robots ``branchprice`` (starting from the root, :data:`ROOT_FIRST_MAX`) overtakes it
+#: sooner: measured on 24 questions a size (seeds 1-3 and 11-13, paths and tours, 1.0
+#: and 1.2 x the least makespan), 0.29 s against 0.30 s in all at n = 14 (slower on 7),
+#: 0.32 against 0.60 s at n = 15 (slower on 1), 0.40 against 1.16 s at n = 16 (never).
+SETPART_FIRST = {"makespan": 16, "robots": 14}
 #: For the least makespan, ``exact`` first checks whether ``best``'s polished
 #: constructions meet the trivial lower bound when ``setpart`` is expected to take at
 #: least this long (n >= 14). Measured (seeds 1-3, 11-13, paths and tours): it doubled the
@@ -88,7 +104,7 @@ def exact(
 
     if export_model:
         _export(instance, problem, export_model)
-    if instance.n <= SETPART_FIRST:
+    if instance.n <= SETPART_FIRST[problem.objective]:
         if problem.objective == "makespan" and model.expected_seconds(instance.n) >= QUICK_CHECK_SECONDS:
             settled = _meets_trivial_bound(instance, problem, clock, seed)
             if settled is not None:
@@ -140,11 +156,12 @@ def _setpart(model: Any, instance: Instance, problem: Problem, clock: Deadline,
     return solution
 
 
-def exact_models(n: int) -> set[str]:
-    """The methods ``exact`` may answer with on ``n`` KPOIs (module docstring)."""
+def exact_models(n: int, objective: str) -> set[str]:
+    """The methods ``exact`` may answer with on ``n`` KPOIs for ``objective``
+    (``"makespan"`` or ``"robots"``; module docstring)."""
     from milp import setpart as model
 
-    if n <= SETPART_FIRST:
+    if n <= SETPART_FIRST[objective]:
         return {"setpart", "bounds"}
     if n <= model.MAX_KPOIS:
         return {"branchprice", "setpart"}
@@ -231,9 +248,14 @@ def _warm_started(
     one, from the ``best`` heuristic's routes; the heuristic's time counts against
     ``time_limit``. ``info["model"]`` is ``name``."""
     clock = Deadline.of(time_limit)
+    extra: dict[str, Any] = {}
+    if (not warm_start and name == "branchprice" and problem.objective == "robots"
+            and instance.n <= ROOT_FIRST_MAX):
+        warm_start = warm_start_routes(instance, problem, clock, seed, rounds=0)
+        extra["improve"] = lambda floor: warm_start_routes(instance, problem, clock, seed, target=floor)
     start = warm_start or warm_start_routes(instance, problem, clock, seed)
     solution = _run(model.min_makespan, model.min_robots, instance, problem, clock,
-                    warm_start=start)
+                    warm_start=start, **extra)
     solution.info["model"] = name
     return solution
 
@@ -279,13 +301,15 @@ def cvxpy_model(
 
 
 def warm_start_routes(
-    instance: Instance, problem: Problem, time_limit: TimeLimit, seed: int, rounds: int | None = None
+    instance: Instance, problem: Problem, time_limit: TimeLimit, seed: int, rounds: int | None = None,
+    target: float | None = None,
 ) -> list[list[int]] | None:
     """Routes from the ``best`` heuristic when it is available, else ``None``; it gets
     :data:`WARM_SHARE` of what is left of ``time_limit`` and ``rounds`` ruin-and-recreate
-    rounds (default :data:`WARM_ROUNDS`), and stops as soon as it meets the trivial lower
-    bound (:func:`parcover.bounds.lower_bound`), as a quarter of the questions at n = 10-15
-    do (29 of 120 measured, mostly k = 5): those then take a fraction of the rounds."""
+    rounds (default :data:`WARM_ROUNDS`), and stops as soon as it meets ``target`` (a
+    proven bound on the objective; default the trivial lower bound,
+    :func:`parcover.bounds.lower_bound`, which a quarter of the questions at n = 10-15
+    meet: 29 of 120 measured, mostly k = 5; those then take a fraction of the rounds)."""
     from parcover.bounds import lower_bound
     from parcover.solve import available_methods
 
@@ -294,8 +318,9 @@ def warm_start_routes(
         return None
     budget = Deadline.of(time_limit).fraction(WARM_SHARE)
     rounds = WARM_ROUNDS[problem.objective] if rounds is None else rounds
+    target = lower_bound(instance, problem) if target is None else target
     solution = methods["best"].function(instance, problem, time_limit=budget, seed=seed, iterations=rounds,
-                                        target=lower_bound(instance, problem))
+                                        target=target)
     return solution.routes or None
 
 

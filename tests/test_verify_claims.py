@@ -107,14 +107,18 @@ def test_certify_refutes_a_greedy_answer_claimed_optimal(capsys, files):
 
 
 def test_certify_uses_a_method_other_than_the_files():
-    small, middle, large = (pc.generate.random_points(n, 1) for n in (8, 20, 25))
-    assert certifier_for(small, "exact") == "branchprice"
-    assert certifier_for(small, "nn") == "setpart"
-    assert certifier_for(middle, "exact") == "compact"  # exact may answer by either
-    assert certifier_for(middle, "branchprice") == "setpart"
-    assert certifier_for(large, "exact") == "compact"
-    assert certifier_for(large, "branchprice") == "compact"
-    assert certifier_for(large, "compact") == "branchprice"
+    small, fifteen, middle, large = (pc.generate.random_points(n, 1) for n in (8, 15, 20, 25))
+    for objective in ("makespan", "robots"):
+        assert certifier_for(small, "exact", objective) == "branchprice"
+        assert certifier_for(small, "nn", objective) == "setpart"
+        assert certifier_for(middle, "exact", objective) == "compact"  # exact may answer by either
+        assert certifier_for(middle, "branchprice", objective) == "setpart"
+        assert certifier_for(large, "exact", objective) == "compact"
+        assert certifier_for(large, "branchprice", objective) == "compact"
+        assert certifier_for(large, "compact", objective) == "branchprice"
+    # at 15 KPOIs exact answers the makespan by setpart, the fewest robots by either
+    assert certifier_for(fifteen, "exact", "makespan") == "branchprice"
+    assert certifier_for(fifteen, "exact", "robots") == "compact"
 
 
 def test_certify_says_when_it_cannot_decide(capsys, files, monkeypatch):

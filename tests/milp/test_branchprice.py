@@ -18,6 +18,7 @@ from hypothesis import strategies as st
 from milp import branchprice, setpart
 from milp import ngroute
 from milp.ngroute import Pricing
+from milp.routes import least_makespan
 from milp_helpers import TOL, check_solution, euclidean, graph_metric
 
 
@@ -172,6 +173,27 @@ def test_random_instances_agree_with_setpart(seed, n, k, tours, share):
     deadline = share * ref.objective
     ours, ref = branchprice.min_robots(D, deadline, tours=tours), setpart.min_robots(D, deadline, tours=tours)
     assert ours.status == "optimal" and ours.objective == ref.objective
+
+
+@pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
+def test_improve_is_asked_once_with_the_root_bound_and_its_routes_are_checked(tours):
+    D = euclidean(12, 6)
+    deadline = 1.2 * least_makespan(D, tours=tours)
+    ref = setpart.min_robots(D, deadline, tours=tours)
+    singletons = [[j] for j in range(1, 13)]
+    asked = []
+
+    def improve(floor: int) -> list[list[int]]:
+        asked.append(floor)
+        return ref.routes
+
+    ours = branchprice.min_robots(D, deadline, tours=tours, warm_start=singletons, improve=improve)
+    assert ours.status == "optimal" and ours.objective == ref.objective
+    assert len(asked) == 1 and 1 <= asked[0] <= ref.objective  # the root bound, rounded up
+    too_long = branchprice.min_robots(D, deadline, tours=tours, warm_start=singletons,
+                                      improve=lambda floor: [list(range(1, 13))])  # one route, too long
+    assert too_long.status == "optimal" and too_long.objective == ref.objective
+    check_solution(D, too_long, tours=tours, deadline=deadline)
 
 
 def test_coincident_kpois_and_kpois_at_the_start():

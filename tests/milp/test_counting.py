@@ -108,6 +108,17 @@ def test_exact_uses_setpart_up_to_16_kpois_and_branchprice_above():
     assert result.makespan == pytest.approx(17) and result.status is parcover.Status.OPTIMAL
 
 
+def test_exact_asks_branchprice_for_the_fewest_robots_from_15_kpois():
+    instance = parcover.generate.random_points(15, 3)
+    deadline = 1.1 * parcover.solve(instance, robots=4).makespan
+    makespan = parcover.solve(instance, robots=4)
+    assert makespan.info["model"] in ("setpart", "bounds")
+    robots = parcover.solve(instance, deadline=deadline, time_limit=60)
+    assert robots.info["model"] == "branchprice" and robots.status is parcover.Status.OPTIMAL
+    by_setpart = parcover.solve(instance, deadline=deadline, method="setpart")
+    assert robots.robots == by_setpart.robots <= 4
+
+
 def test_exact_settles_by_the_trivial_bound_when_a_construction_meets_it():
     # 15 KPOIs, 5 tours: some tour reaches the farthest KPOI, so 2 c_max is a lower bound
     # (Prop. 1); when best's construction meets it no model runs, and setpart agrees.
