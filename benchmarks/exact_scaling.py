@@ -320,16 +320,18 @@ def _plain_target(ratios: pd.DataFrame) -> str:
 
 
 def _n30_target(frame: pd.DataFrame) -> str:
-    """n = 30 proven within 60 s: k = 3 paths on each seed, then every n = 30 cell."""
+    """n = 30, k = 3, paths and tours, proven within 60 s on every seed (the exact
+    issue's target); then, for information, how many of all n = 30 cells were."""
     ours30 = frame[(frame["n"] == 30) & (frame["model"] == ours(30))]
     if ours30.empty:
-        return "exact: n = 30 proven within 60 s: not measured"
+        return "exact: n = 30, k = 3 proven within 60 s: not measured"
     k3 = ours30[ours30["problem"] == "makespan k=3"]
     parts = [f"{r.routes} seed {r.seed}: {_outcome(r)}" for r in k3.itertuples()]
+    fast = k3[(k3["status"] == "optimal") & (k3["seconds"] <= 60)]
+    verdict = "met" if len(fast) == len(k3) else f"not met ({len(fast)}/{len(k3)} cells)"
     proven = ours30[(ours30["status"] == "optimal") & (ours30["seconds"] <= 60)]
-    verdict = "met" if len(proven) == len(ours30) else "not met"
-    return (f"exact: n = 30 proven within 60 s: {verdict}: k = 3 {'; '.join(parts)}; "
-            f"all n = 30 cells: {len(proven)}/{len(ours30)} proven within 60 s")
+    return (f"exact: n = 30, k = 3 proven within 60 s: {verdict}: {'; '.join(parts)}; "
+            f"all n = 30 cells (k = 2, 3, 5, fewest robots): {len(proven)}/{len(ours30)} proven within 60 s")
 
 
 def _n40_target(frame: pd.DataFrame) -> str:
