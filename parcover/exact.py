@@ -112,10 +112,11 @@ def exact(
         return _setpart(model, instance, problem, clock, warm_start)
     from milp import branchprice  # numba: only when needed
 
-    compiled_in_time = branchprice.ready_within(clock.remaining())
-    if not compiled_in_time and instance.n <= model.MAX_KPOIS:
-        return _setpart(model, instance, problem, clock, warm_start)
-    if instance.n > branchprice.MAX_KPOIS or not compiled_in_time:
+    if not branchprice.ready_within(clock.remaining()):
+        fallback = (_setpart(model, instance, problem, clock, warm_start) if instance.n <= model.MAX_KPOIS
+                    else compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start))
+        return _noting_uncompiled(fallback)
+    if instance.n > branchprice.MAX_KPOIS:
         return compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
     if instance.n > model.MAX_KPOIS:
         return branch_and_price(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
@@ -126,6 +127,19 @@ def exact(
         return first
     solution = _setpart(model, instance, problem, clock, warm_start)
     return solution if _decided(solution) else first
+
+
+def _noting_uncompiled(solution: Solution) -> Solution:
+    """An unproven fallback answer says why branch-and-price did not run and how to let it."""
+    if not _decided(solution):
+        from milp.branchprice import COMPILE_SECONDS
+
+        reason = solution.info.get("message")
+        solution.info["message"] = "; ".join(filter(None, [reason, (
+            "branch-and-price not run: its pricing compiles once per installation (up to "
+            f"{COMPILE_SECONDS:g} s) and the time limit leaves less; one solve with a longer "
+            "limit, or none, compiles it")]))
+    return solution
 
 
 def _meets_trivial_bound(instance: Instance, problem: Problem, clock: Deadline,

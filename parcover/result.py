@@ -156,7 +156,7 @@ class Result:
                 f"robots    {self.robots}",
                 f"makespan  {_num(self.makespan)}",
             ]
-        if not self.routes and self.info.get("message"):
+        if self.info.get("message") and (not self.routes or self.status is not Status.OPTIMAL):
             lines.append(f"note      {self.info['message']}")
         bound = _num(self.bound) if self.bound is not None else "-"
         gap_text = f"{100 * self.gap:.4g}%" if self.gap is not None else "-"

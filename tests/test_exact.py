@@ -93,6 +93,19 @@ def test_exact_skips_branchprice_when_its_compilation_does_not_fit(monkeypatch, 
     result = solve(instance, "paths", robots=5, time_limit=5)
     assert time.perf_counter() - started < 5.5
     assert result.info["model"] == model
+    if result.status is not Status.OPTIMAL:  # an unproven answer says why and what to do
+        assert "compiles once per installation" in result.info["message"]
+        assert "compiles once per installation" in result.summary()
+
+
+def test_an_unproven_fallback_says_branchprice_was_not_compiled():
+    from parcover.exact import _noting_uncompiled
+    from parcover.problem import Solution
+
+    unproven = _noting_uncompiled(Solution(routes=[[1]], info={"message": "time limit"}))
+    assert unproven.info["message"].startswith("time limit; branch-and-price not run")
+    proven = _noting_uncompiled(Solution(routes=[[1]], status=Status.OPTIMAL, info={"message": "closed"}))
+    assert proven.info["message"] == "closed"
 
 
 def test_branchprice_without_time_to_compile_answers_best_routes_and_says_why(monkeypatch):
