@@ -119,6 +119,23 @@ def test_exact_asks_branchprice_for_the_fewest_robots_from_15_kpois():
     assert robots.robots == by_setpart.robots <= 4
 
 
+@pytest.mark.parametrize("routes", ["paths", "tours"])
+@pytest.mark.parametrize("make", [
+    lambda: parcover.generate.random_points(16, 7, layout="clustered"),
+    lambda: parcover.generate.random_graph(15, 8),
+    lambda: parcover.Instance.from_points([(x % 4, x // 4 % 3) for x in range(17)]),  # coincident KPOIs
+], ids=["clustered", "graph", "coincident"])
+def test_exact_fewest_robots_from_the_root_agrees_with_setpart(make, routes):
+    # exact answers by branchprice started from best's construction (the root first)
+    instance = make()
+    least = parcover.solve(instance, routes, robots=instance.n, method="setpart").makespan
+    for factor in (1.0, 1.3):
+        ours = parcover.solve(instance, routes, deadline=factor * least, time_limit=60)
+        ref = parcover.solve(instance, routes, deadline=factor * least, method="setpart")
+        assert ours.info["model"] == "branchprice" and ours.status is parcover.Status.OPTIMAL
+        assert ours.robots == ref.robots
+
+
 def test_exact_settles_by_the_trivial_bound_when_a_construction_meets_it():
     # 15 KPOIs, 5 tours: some tour reaches the farthest KPOI, so 2 c_max is a lower bound
     # (Prop. 1); when best's construction meets it no model runs, and setpart agrees.
