@@ -5,8 +5,9 @@ The full run writes ``reports/benchmarks.md`` with its figures and CSVs in
 ``reports/benchmarks-quick.md`` unless ``--out`` says otherwise. ``--sections`` runs
 some of them only: each section's text is also kept in ``<figures>/<section>.json``, and
 the report shows the sections not run this time from there, each with the date and
-command of its own run. The report starts with the command, the machine and the package
-versions; it ends with the issue's targets and the figures reached.
+command of its own run (``--sections ''`` runs none and only rewrites the report). The report
+starts with the command that reruns every section, the command that wrote it, the machine
+and the package versions; it ends with the issue's targets and the figures reached.
 """
 
 from __future__ import annotations
@@ -60,6 +61,14 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
+def _every_section(command: str) -> str:
+    """``command`` without its ``--sections``: the command that reruns every section."""
+    words = shlex.split(command)
+    kept = [w for i, w in enumerate(words)
+            if not (w == "--sections" or w.startswith("--sections=") or (i and words[i - 1] == "--sections"))]
+    return shlex.join(kept)
+
+
 def save_section(section: Section, path: Path, command: str, minutes: float, commit: str) -> None:
     """Keep a section's text, targets and provenance (when, machine, command, commit) as JSON."""
     saved = {"title": section.title, "markdown": section.markdown, "targets": section.targets,
@@ -104,12 +113,12 @@ def render(sections: list[dict], command: str) -> str:
     lines = [
         "# Benchmarks",
         "",
-        "Regenerate with:",
+        "Regenerate with (every section; `--sections NAME` reruns one, `--sections ''` only rewrites this file):",
         "",
-        f"    {command}",
+        f"    {_every_section(command)}",
         "",
         f"- machine and packages: {_machine()}",
-        f"- written {_now()}. Machines here are shared and noisy:",
+        f"- written {_now()} by `{command}`. Machines here are shared and noisy:",
         "  compare the ratios between methods measured in the same run, not absolute seconds.",
         "- a section can be rerun alone (`--sections NAME`); each says when and how it ran.",
         "",
