@@ -7,7 +7,6 @@ least makespan with at most ``k`` routes, or fewest routes within a deadline.
 
 from __future__ import annotations
 
-
 import numpy as np
 
 from milp.deadline import Deadline, TimeLimit

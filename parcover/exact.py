@@ -239,7 +239,11 @@ def branch_and_price(
                    f"{branchprice.COMPILE_SECONDS:g} s, then cached) and the time limit leaves less; "
                    "these are best's routes")
         return Solution(routes=routes or [], info={"model": "branchprice", "message": message})
-    return _warm_started(branchprice, "branchprice", instance, problem, clock, seed, warm_start)
+    options: dict[str, Any] = {}
+    if not warm_start and problem.objective == "robots" and instance.n <= ROOT_FIRST_MAX:
+        warm_start = warm_start_routes(instance, problem, clock, seed, rounds=0)
+        options["improve"] = lambda floor: warm_start_routes(instance, problem, clock, seed, target=floor)
+    return _warm_started(branchprice, "branchprice", instance, problem, clock, seed, warm_start, **options)
 
 
 def _check_size(instance: Instance, most: int, method: str) -> None:
@@ -257,19 +261,15 @@ def _warm_started(
     time_limit: TimeLimit,
     seed: int,
     warm_start: list[list[int]] | None,
+    **options: Any,
 ) -> Solution:
     """Run ``model.min_makespan`` / ``model.min_robots`` from ``warm_start`` or, without
     one, from the ``best`` heuristic's routes; the heuristic's time counts against
-    ``time_limit``. ``info["model"]`` is ``name``."""
+    ``time_limit``. ``options`` go to the model; ``info["model"]`` is ``name``."""
     clock = Deadline.of(time_limit)
-    extra: dict[str, Any] = {}
-    if (not warm_start and name == "branchprice" and problem.objective == "robots"
-            and instance.n <= ROOT_FIRST_MAX):
-        warm_start = warm_start_routes(instance, problem, clock, seed, rounds=0)
-        extra["improve"] = lambda floor: warm_start_routes(instance, problem, clock, seed, target=floor)
     start = warm_start or warm_start_routes(instance, problem, clock, seed)
     solution = _run(model.min_makespan, model.min_robots, instance, problem, clock,
-                    warm_start=start, **extra)
+                    warm_start=start, **options)
     solution.info["model"] = name
     return solution
 
