@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from parcover.certify import Certificate
+from parcover.errors import InputError
 from parcover.instance import Instance
 from parcover.problem import meets_deadline
 from parcover.result import Result, RoutesKind
@@ -140,7 +141,14 @@ def verify(
     InvalidSolution
         If the routes are not a partition of the KPOIs into routes from the start
         (every problem is listed).
+    InputError
+        If ``instance`` is not an :class:`Instance`.
     """
+    if not isinstance(instance, Instance):
+        raise InputError(f"Expected an Instance, got {type(instance).__name__} {instance!r:.60}; "
+                         "read a file with pc.load(path).")
+    if certify and isinstance(solution, Result):
+        solution = solution.to_dict()  # its claims, as a file would state them, to re-prove
     routes, fields = _routes_and_fields(solution)
     if answer_without_routes(routes, fields):
         certificate = None

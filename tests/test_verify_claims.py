@@ -185,3 +185,12 @@ def test_the_api_verifies_an_answer_without_routes_as_the_cli_does():
     claimed = {**json.loads(result.to_json()), "status": "feasible", "makespan": 3.0}
     with pytest.raises(pc.InvalidSolution):
         pc.verify(instance, claimed)
+
+
+def test_the_api_certifies_a_result_object():
+    # a Result (not its JSON) with certify=True was not re-proved: certificate None
+    instance = pc.generate.random_points(8, 3)
+    for method, outcome in (("exact", "certified"), ("nn", "certified")):
+        verdict = pc.verify(instance, pc.solve(instance, robots=3, method=method), certify=True, time_limit=30)
+        assert verdict.valid and verdict.certificate is not None
+        assert verdict.certificate.outcome == outcome

@@ -54,6 +54,7 @@ DEFAULT_ITERATIONS = 30
 _NOT_STARTS = frozenset({"best", "trivial", *(method.name for method in exact.METHODS)})
 _CONSTRUCTION_SHARE = 0.025  # of the time limit, for each construction
 _CONSTRUCTIONS_SHARE = 0.5  # of the time limit: no construction starts after it
+_QUICK = "nn"  # the construction run when none answered in time and ours would not fit
 _INSERTION_SECONDS = 1.5e-6  # min_max_insertion per KPOI pair (1.3 s at 1000 KPOIs, measured)
 _ROBOTS_SHARE = 0.4  # of the time limit, robots objective: the rest goes to fewer_robots
 _CHAIN = 3  # longest chain of KPOIs moved by or-opt / relocate
@@ -175,7 +176,8 @@ def best_construction(
     :func:`min_max_insertion`. Most constructions cannot be interrupted and some take
     a second at 1000 KPOIs, so under a time limit none starts once
     :data:`_CONSTRUCTIONS_SHARE` of it has passed, and ours (O(n^2)) only when its
-    expected time (:data:`_INSERTION_SECONDS`) fits or nothing else answered. One that
+    expected time (:data:`_INSERTION_SECONDS`) fits; when it does not and nothing else
+    answered, :data:`_QUICK` (then ours if that fails). One that
     raises or answers invalid routes is skipped. Ties go to the construction listed
     first (registry order, then ours).
     """
@@ -197,8 +199,20 @@ def best_construction(
         if not solution.drops_deadline and search.valid(solution.routes):
             candidates.append((name, [list(map(int, r)) for r in solution.routes if r]))
     ours_ends = time.perf_counter() + _INSERTION_SECONDS * instance.n**2
-    if stop is None or ours_ends <= stop or not candidates:
+    if stop is None or ours_ends <= stop:
         candidates.append(("min_max_insertion", min_max_insertion(instance, problem)))
+    elif not candidates:
+        # Nothing answered before the stop and ours would not fit (14 s at 3000 KPOIs,
+        # run anyway it held `exact --time-limit 3` 10 s): the nearest neighbour
+        # answers at once (0.03 s at 3000 KPOIs), ours only if it fails.
+        try:
+            quick = available_methods()[_QUICK].function(instance, problem, time_limit=share, seed=seed)
+            if not quick.drops_deadline and search.valid(quick.routes):
+                candidates.append((_QUICK, [list(map(int, r)) for r in quick.routes if r]))
+        except Exception:  # as above: a failing construction must not break `best`
+            pass
+        if not candidates:
+            candidates.append(("min_max_insertion", min_max_insertion(instance, problem)))
     return min(candidates, key=lambda c: search.key(search.sequences(c[1])))
 
 
@@ -701,10 +715,11 @@ class _Search:
         d = self.d
         costs = [self.cost(s) for s in seqs]
         makespan = max(costs, default=0.0)
-        top, top_key = None, None
+        top, top_key, blinked = None, None, False
         for r, s in enumerate(seqs):
             for k in range(len(s) - 1):
                 if rng is not None and rng.random() < _BLINK:
+                    blinked = True
                     continue
                 u, w = s[k], s[k + 1]
                 extra = d[u][v] + d[v][w] - d[u][w]
@@ -717,6 +732,10 @@ class _Search:
                     key = (max(new, makespan), extra)
                 if top_key is None or key < top_key:
                     top, top_key = (r, k), key
+        if top is None and blinked:
+            # the slots that would do were all skipped (likely with few slots, over many
+            # rounds): a new route would break the robot limit, so try again without blinks
+            return self.insert(seqs, v, allow_new=allow_new)
         if top is None:
             if not allow_new:
                 return False
