@@ -472,7 +472,10 @@ def _build_parser() -> argparse.ArgumentParser:
                    "exit 0 when every file still refutes its claim, 1 when one does not")
     p.set_defaults(run=_props)
 
-    p = commands.add_parser("worst", help="adversarial search for the greedy's worst ratio to the optimum")
+    p = commands.add_parser(
+        "worst", help="adversarial search for the greedy's worst ratio to the optimum",
+        description="Search for the worst greedy/optimum ratio per claim and reading.",
+    )
     p.add_argument("--budget", type=_positive_float, default=5.0, metavar="SECONDS",
                    help="seconds of search per claim and reading (default: 5)")
     p.add_argument("--seed", type=int, default=0, help="seed of the search (default: 0)")

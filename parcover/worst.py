@@ -38,7 +38,14 @@ is reproducible up to where the time budget cuts it (a faster machine gets furth
 
 The worst instance of each target is saved with a ``"question"`` block (the claim,
 the question asked, the greedy's and the optimum's values), so that
-``parcover solve FILE --method M --deadline D`` reproduces it.
+``parcover props --check FILE`` reproduces it (``parcover solve FILE`` asks its question).
+A target whose search found no ratio above 1 gets no file (it would refute nothing).
+
+The halving line (:func:`halving_line`) is a family whose ratio grows for Alg. 1: its
+members of :data:`FAMILY_LENGTHS` are solved at each deadline of :data:`FAMILY_FACTORS`
+with every reading, their optima proven by ``exact`` within :data:`FAMILY_TIME_LIMIT`
+seconds each (:func:`family`); :func:`growth` tells, per claim and reading, whether the
+ratio grows on the family or stays bounded on everything tried.
 """
 
 from __future__ import annotations
@@ -61,10 +68,16 @@ __all__ = [
     "Target",
     "Score",
     "Found",
+    "Member",
     "score",
     "targets",
     "search",
     "save_worst",
+    "save_found",
+    "halving_line",
+    "family",
+    "growth",
+    "report",
 ]
 
 #: The claims searched, named as in :mod:`parcover.props` (without the method).
@@ -80,6 +93,17 @@ RESTART_STEPS = 150
 T_START, T_END = 0.3, 0.005
 TIE = 1e-3
 EXACT = "setpart"
+#: Halving-line lengths L (n = L + 1 KPOIs, 4 to 2048). ``exact`` proves each member in
+#: seconds; the cap keeps the family's part of the report near half a minute.
+FAMILY_LENGTHS = tuple(2**k - 1 for k in range(2, 12))
+#: Deadlines of the family, as multiples of ``c_max``: Alg. 1 and Alg. 1-1's two claims.
+FAMILY_FACTORS = (1.0, 1.25, 1.5)
+#: Seconds for each exact solve of a family member; the family stops at the first member
+#: not proven within it (that member is shown ``feasible``, with its bound).
+FAMILY_TIME_LIMIT = 30.0
+#: A family's ratio grows for a target when it rose at each of the last this many
+#: doublings of n (over proven members).
+GROWTH_STEPS = 2
 
 
 @dataclass(frozen=True)
@@ -132,6 +156,14 @@ class Score:
         mine, best = self.values
         return mine / best
 
+    @property
+    def refutes(self) -> bool:
+        """The optimum beats the greedy, as ``props --check`` decides it (same tolerance)."""
+        from parcover.props import compare_optimum
+
+        mine, _ = self.values
+        return compare_optimum(self.optimum, "ge", mine, self.greedy.method).status == "refuted"
+
 
 def targets(claims: Iterable[str] = CLAIMS, methods: Iterable[str] = READINGS) -> list[Target]:
     """Every (claim, reading) pair, checking the names."""
@@ -180,6 +212,30 @@ def save_worst(instance: Instance, target: Target, found: Score, path: str | Pat
     path.parent.mkdir(parents=True, exist_ok=True)
     write_instance(instance, path, question=question)
     return path
+
+
+def save_found(found: Found, out_dir: str | Path) -> Path | None:
+    """Save ``found``'s worst instance as ``out_dir/<claim id>.json`` if it refutes the claim.
+
+    An instance where the greedy is optimal would fail ``props --check``: then nothing is
+    written, a file an earlier run left under that name is removed, and ``None`` returned.
+    """
+    path = Path(out_dir) / f"{found.target.id}.json"
+    if found.instance is None or found.score is None or not found.score.refutes:
+        path.unlink(missing_ok=True)
+        return None
+    return save_worst(found.instance, found.target, found.score, path)
+
+
+def found_row(found: Found, path: Path | None) -> str:
+    """The report's row for one target: the worst ratio, its instance and file (if saved)."""
+    t = found.target
+    file = f"`{path}`" if path is not None else "none saved: no ratio above 1 found"
+    if found.instance is None or found.score is None:
+        return f"| {t.claim} | {t.method} | - | - | - | - | - | {file} |"
+    mine, best = found.score.values
+    return (f"| {t.claim} | {t.method} | {found.ratio:.3f} | {mine:g} | {best:g} | "
+            f"{found.instance.n} | {found.space} | {file} |")
 
 
 # -- the instance spaces ------------------------------------------------------------
@@ -349,7 +405,8 @@ class Found:
         """Keep ``instance`` if it has a larger ratio, or the same with fewer KPOIs."""
         n = instance.n
         self.by_n[n] = max(self.by_n.get(n, 1.0), found.ratio)
-        if self.instance is None or (found.ratio, -n) > (self.ratio + 1e-9, -self.instance.n):
+        if (self.instance is None or found.ratio > self.ratio + 1e-9
+                or (found.ratio > self.ratio - 1e-9 and n < self.instance.n)):
             self.instance, self.score, self.space = instance, found, space
 
 
@@ -447,17 +504,129 @@ def halving_line(length: int) -> Instance:
     return Instance.from_points(points, name=f"halving-line-{length}")
 
 
-def family_rows(lengths: Sequence[int], exact: str = "exact") -> list[tuple[int, int, int, str]]:
-    """(n, greedy robots, optimum robots, status) of :func:`halving_line` members."""
+@dataclass(frozen=True)
+class Member:
+    """One halving-line member at one deadline: each reading's robots and the exact answer."""
+
+    length: int
+    factor: float
+    greedy: dict[str, int]
+    optimum: Result
+
+    @property
+    def n(self) -> int:
+        return self.length + 1
+
+    @property
+    def proven(self) -> bool:
+        return self.optimum.status is Status.OPTIMAL
+
+    def ratio(self, method: str) -> float | None:
+        """The reading's robots / the exact method's (a lower bound on the ratio when not proven)."""
+        return None if self.optimum.robots is None else self.greedy[method] / self.optimum.robots
+
+
+def family(
+    lengths: Sequence[int] = FAMILY_LENGTHS,
+    factors: Sequence[float] = FAMILY_FACTORS,
+    time_limit: float = FAMILY_TIME_LIMIT,
+    exact: str = "exact",
+) -> list[Member]:
+    """Every reading and ``exact`` on :func:`halving_line` members, paths within ``factor x c_max``.
+
+    Stops after the first length where ``exact`` does not prove some factor's optimum
+    within ``time_limit`` seconds (its members are kept, with their status and bound).
+    """
     from parcover.solve import solve
 
-    rows = []
+    members: list[Member] = []
     for length in lengths:
         inst = halving_line(length)
-        mine = solve(inst, "paths", method="paper")
-        best = solve(inst, "paths", method=exact, time_limit=60)
-        rows.append((inst.n, int(mine.robots), int(best.robots), best.status.value))
-    return rows
+        for factor in factors:
+            deadline = factor * inst.c_max
+            greedy = {m: int(solve(inst, "paths", deadline=deadline, method=m).robots) for m in READINGS}
+            optimum = solve(inst, "paths", deadline=deadline, method=exact, time_limit=time_limit)
+            members.append(Member(length, factor, greedy, optimum))
+        if not all(m.proven for m in members[-len(factors):]):
+            break
+    return members
+
+
+def family_table(members: Sequence[Member], factor: float) -> list[str]:
+    """The markdown table of the members at ``factor x c_max``: each reading's robots, the optimum
+    with its status and bound, the literal reading's ratio (``>=`` when the optimum is not proven)."""
+    lines = ["| n | " + " | ".join(READINGS) + " | optimum | status | bound | ratio (paper) |",
+             "|---" * (len(READINGS) + 5) + "|"]
+    for m in members:
+        if m.factor != factor:
+            continue
+        ratio = m.ratio("paper")
+        cell = "-" if ratio is None else f"{ratio:.2f}" if m.proven else f">= {ratio:.2f}"
+        best = "-" if m.optimum.robots is None else str(m.optimum.robots)
+        bound = "-" if m.optimum.bound is None else f"{m.optimum.bound:g}"
+        lines.append(f"| {m.n} | " + " | ".join(str(m.greedy[r]) for r in READINGS)
+                     + f" | {best} | {m.optimum.status.value} | {bound} | {cell} |")
+    return lines
+
+
+def proven_line(target: Target, members: Sequence[Member]) -> list[tuple[int, float]]:
+    """(n, ratio) of ``target`` on the proven members at its deadline, by increasing n."""
+    return [(m.n, m.ratio(target.method)) for m in members
+            if m.proven and m.factor == target.factor]
+
+
+def grows(target: Target, members: Sequence[Member]) -> bool:
+    """The proven members' ratio for ``target`` rose at each of the last :data:`GROWTH_STEPS` members
+    (each member doubles n)."""
+    last = [r for _, r in proven_line(target, members)][-(GROWTH_STEPS + 1):]
+    return len(last) == GROWTH_STEPS + 1 and all(a < b - 1e-9 for a, b in zip(last, last[1:]))
+
+
+def growth(target: Target, found: Found, members: Sequence[Member]) -> str:
+    """The row of "Does the ratio grow with n?" for ``target``: the largest ratio seen (by the
+    search, or on a proven halving-line member), at the smallest n reaching it, and the verdict."""
+    line = proven_line(target, members)
+    seen = [(r, -n, "search") for n, r in found.by_n.items()] + [(r, -n, "halving line") for n, r in line]
+    if not seen:
+        return f"| {target.claim} | {target.method} | - | - | - | nothing tried |"
+    ratio, minus_n, where = max(seen)
+    if grows(target, members):
+        verdict = (f"**grows**: the halving line, {line[0][1]:.2f} at n = {line[0][0]} to "
+                   f"{line[-1][1]:.2f} at n = {line[-1][0]}, every member proven")
+    else:
+        verdict = f"bounded on everything tried, largest ratio seen {ratio:.3f} at n = {-minus_n}"
+    return f"| {target.claim} | {target.method} | {ratio:.3f} | {-minus_n} | {where} | {verdict} |"
+
+
+def draw_family(length: int, path: Path, exact: str = "setpart") -> Path:
+    """Draw :func:`halving_line` ``length``: the literal Alg. 1's paths beside the optimum's,
+    one lane per robot (the line's points all lie on y = 0, so routes are drawn apart)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from parcover.solve import solve
+
+    inst = halving_line(length)
+    x = {"0": 0.0, **{str(i + 1): float(-length if i == 0 else i) for i in range(length + 1)}}
+    results = [solve(inst, "paths", method="paper"), solve(inst, "paths", method=exact)]
+    lanes = max(len(r.routes) for r in results)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 1.2 + 0.5 * lanes), sharey=True)
+    for ax, result in zip(axes, results):
+        for i, route in enumerate(result.routes):
+            xs = [x[v] for v in route]
+            cost = result.route_costs[i]
+            ax.plot(xs, [-i] * len(xs), marker="o", markersize=4, label=f"robot {i + 1}: {cost:g}")
+        ax.plot([0], [0], marker="*", markersize=12, color="gold", markeredgecolor="black", linestyle="")
+        ax.set(title=f"{result.method} ({result.status.value}): {result.robots} paths within c_max = {length}",
+               xlabel="x (start at 0)", yticks=[])
+        ax.legend(fontsize=7, loc="lower left")
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
 
 
 def prop2_rows(count: int, seed: int = 0) -> list[tuple[int, int, int]]:
@@ -474,10 +643,8 @@ def prop2_rows(count: int, seed: int = 0) -> list[tuple[int, int, int]]:
     return rows
 
 
-def plot_ratios(founds: Sequence[Found], family: Sequence[tuple[int, int, int, str]], path: Path) -> Path:
-    """Worst ratio against n: per claim from the search, and the halving line family."""
-    import math
-
+def plot_ratios(founds: Sequence[Found], members: Sequence[Member], path: Path) -> Path:
+    """Worst ratio against n: per claim from the search, and the halving line's proven members."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -494,10 +661,12 @@ def plot_ratios(founds: Sequence[Found], family: Sequence[tuple[int, int, int, s
         left.plot(ns, [worst[n] for n in ns], marker="o", label=claim)
     left.set(xlabel="KPOIs n", ylabel="worst greedy / optimum seen", title="adversarial search")
     left.legend(fontsize=8)
-    ns = [n for n, *_ in family]
-    right.plot(ns, [mine / best for _, mine, best, _ in family], marker="o", label="paper (proven optima)")
+    for factor in FAMILY_FACTORS:
+        line = [(m.n, m.ratio("paper")) for m in members if m.proven and m.factor == factor]
+        right.plot([n for n, _ in line], [r for _, r in line], marker="o", label=f"paper at {factor:g} c_max")
+    ns = sorted({m.n for m in members if m.proven})
     right.plot(ns, [(1 + math.log2(n)) / 2 for n in ns], linestyle="--", label="(1 + log2 n) / 2")
-    right.set(xscale="log", xlabel="KPOIs n", ylabel="greedy / optimum", title="halving line, Alg. 1")
+    right.set(xscale="log", xlabel="KPOIs n", ylabel="greedy / optimum (proven)", title="halving line, literal reading")
     right.legend(fontsize=8)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -512,35 +681,49 @@ def report(*, budget: float, seed: int, out_dir: str | Path, report_path: str | 
 
     from tqdm import tqdm
 
+    pictures = Path(report_path).with_suffix("")
     lines = ["# How bad can the paper's greedy get?", "", "Regenerate with:", "", f"    {command}", "",
              f"Machine: {platform.machine()}, {platform.system()}, Python {platform.python_version()}; "
-             f"{budget:g} s of search per claim and reading, seed {seed}. Optima by `setpart` (proven).", "",
+             f"{budget:g} s of search per claim and reading, seed {seed}. Optima: the search's proven by "
+             f"`{EXACT}` (n <= {MAX_KPOIS}); the halving line's by `exact` within {FAMILY_TIME_LIMIT:g} s "
+             f"per solve (status in each row); Prop. 2's by `{EXACT}`.", "",
              "## Worst ratios found (greedy / optimum)", "",
+             "A search that finds no ratio above 1 saves no file (it would refute nothing).", "",
              "| claim | reading | ratio | greedy | optimum | KPOIs | space | file |", "|---|---|---|---|---|---|---|---|"]
     founds = []
     for target in tqdm(targets(), desc="worst", unit="target"):
         found = search(target, budget=budget, seed=seed)
         founds.append(found)
-        assert found.instance is not None and found.score is not None
-        path = save_worst(found.instance, target, found.score, Path(out_dir) / f"{target.id}.json")
-        mine, best = found.score.values
-        lines.append(f"| {target.claim} | {target.method} | {found.ratio:.3f} | {mine:g} | {best:g} | "
-                     f"{found.instance.n} | {found.space} | `{path}` |")
+        lines.append(found_row(found, save_found(found, out_dir)))
+    members = family()
+    largest = max(m.n for m in members)
     lines += ["", "## A family whose ratio grows: the halving line", "",
-              "KPOIs at x = 1..L on a line and one at x = -L (the start at 0, c_max = L). "
-              "Two paths are optimal (one to -L, one sweeping 1..L); one path cannot reach -L and 1 within L. "
-              "The literal step 5d tests cost + w(v_m, v_j) against c_max, measured from the path's first "
-              "KPOI v_m, so a path started at a stops at j with (j - 1) + (j - a) > L: each path halves what is "
-              "left, and Alg. 1 (`paper`) needs 1 + ~log2 L robots. The ratio grows without bound, "
-              "as (1 + log2 n) / 2. `paper-1-1-end` is the same run at c_max; `paper-5d-end` and `paper-nearest-end` grow from the end and sweep the line in one path.", "",
-              "| n | greedy (paper) | optimum | status | ratio |", "|---|---|---|---|---|"]
-    family = family_rows([3, 7, 15, 31, 63])
-    for n, mine, best, status in family:
-        lines.append(f"| {n} | {mine} | {best} | {status} | {mine / best:.2f} |")
-    figure = plot_ratios(founds, family, Path(report_path).with_suffix("") / "ratio_vs_n.png")
-    lines += ["", f"![worst ratio against n]({Path(report_path).stem}/{figure.name})", "",
+              "KPOIs at x = 1..L on a line and one at x = -L (the start at 0, c_max = L, n = L + 1). "
+              "Two paths are optimal at every deadline here (one to -L, one sweeping 1..L); one path "
+              "visiting -L and L costs at least 3L. The literal step 5d tests cost + w(v_m, v_j) against "
+              "the deadline c_p, measured from the path's first KPOI v_m, so a path started at a stops "
+              "before the first j with (j - 1) + (j - a) > c_p. At c_p = c_max = L each path halves what "
+              "is left, and Alg. 1 (`paper`) needs 1 + log2 n robots: the ratio grows without bound, as "
+              "(1 + log2 n) / 2. At c_p = f c_max with f > 1, a path leaves about g / 2 - (f - 1) L / 2 "
+              "of the g = L - a left to cover, which reaches 0 after 3 paths at f = 1.25 and 2 at f = 1.5: "
+              "on long lines Alg. 1-1 needs 4 and 3 robots, and the ratio stops growing. "
+              "`paper-1-1-end` needs as many robots as `paper` here; `paper-5d-end` and "
+              "`paper-nearest-end` grow the path from its end and sweep the line in one path.", "",
+              f"Members n = 4, 8, ... up to {largest}, each optimum by `exact` within {FAMILY_TIME_LIMIT:g} s; "
+              "the family stops at the first member not proven (shown `feasible`, with its bound).", ""]
+    for factor in FAMILY_FACTORS:
+        title = "c_max (Alg. 1)" if factor == 1.0 else f"{factor:g} c_max (Alg. 1-1)"
+        lines += [f"Paths within {title}, robots per reading:", "", *family_table(members, factor), ""]
+    drawing = draw_family(15, pictures / "halving_line.png")
+    lines += [f"![the halving line, n = 16]({pictures.name}/{drawing.name})", "",
+              "The halving line with L = 15 (n = 16): left, the literal Alg. 1's 5 paths "
+              "([-15], [1..8], [9..12], [13, 14], [15]); right, the 2 optimal paths."]
+    figure = plot_ratios(founds, members, pictures / "ratio_vs_n.png")
+    lines += ["", f"![worst ratio against n]({pictures.name}/{figure.name})", "",
               "Left: the worst ratio the search saw at each KPOI count, per claim (the largest over "
-              "the readings). Right: the halving line, proven optima, against (1 + log2 n) / 2."]
+              "the readings). Right: the halving line's literal reading at c_max, 1.25 and 1.5 c_max (proven "
+              "optima), against (1 + log2 n) / 2."]
+    lines += growth_section(founds, members, budget)
     rows = prop2_rows(100, seed)
     tight = sum(best == upper for _, best, upper in rows)
     gaps = [upper - best for _, best, upper in rows]
@@ -555,3 +738,21 @@ def report(*, budget: float, seed: int, out_dir: str | Path, report_path: str | 
     Path(report_path).parent.mkdir(parents=True, exist_ok=True)
     Path(report_path).write_text(text, encoding="utf-8")
     return text
+
+
+def growth_section(founds: Sequence[Found], members: Sequence[Member], budget: float) -> list[str]:
+    """The report's "Does the ratio grow with n?": one :func:`growth` row per claim and reading,
+    and which of them have a growing family."""
+    proven = [m.n for m in members if m.proven]
+    lines = ["", "## Does the ratio grow with n?", "",
+             f"Tried: the search (n <= {MAX_KPOIS}, {budget:g} s per claim and reading) for every row; for the "
+             f"paths claims (alg1, alg1-1) also the halving line at their deadline, members proven by `exact` "
+             f"up to n = {max(proven, default=0)}. A ratio grows on the family when it rose at each of "
+             f"the last {GROWTH_STEPS} doublings of n (proven members).", "",
+             "| claim | reading | largest ratio seen | at n | by | does it grow? |", "|---|---|---|---|---|---|"]
+    lines += [growth(found.target, found, members) for found in founds]
+    growing = ", ".join(f"`{found.target.id}`" for found in founds if grows(found.target, members))
+    lines += ["", f"A growing family (the halving line) is known for {growing}; every other claim and reading "
+              "is bounded on everything tried (its row)." if growing else
+              "No growing family is known: every claim and reading is bounded on everything tried."]
+    return lines
