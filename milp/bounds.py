@@ -89,4 +89,6 @@ def robots_lower_bound(D: np.ndarray, deadline: float, *, tours: bool) -> int:
     tree = spanning_tree_length(D)
     q = np.arange(1, len(D))
     closing = np.cumsum(np.sort(D[0, 1:])) if tours else np.zeros(len(q))
-    return int(q[np.argmax(within(tree + closing, q * deadline))])
+    with np.errstate(over="ignore"):  # q x a deadline near 1e308 is inf: every q fits
+        fits = within(tree + closing, q * deadline)
+    return int(q[np.argmax(fits)])

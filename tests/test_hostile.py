@@ -13,13 +13,14 @@ import math
 import os
 import subprocess
 import sys
+import warnings
 from importlib.metadata import version
 from pathlib import Path
 
 import networkx as nx
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 import parcover as pc
@@ -245,6 +246,30 @@ def test_any_file_text_is_an_instance_or_one_line(tmp_path_factory, text):
         pc.load(path)
     except pc.FileFormatError as exc:
         assert "\n" not in str(exc)
+
+
+_OPTION_VALUES = st.one_of(
+    st.text(max_size=6),
+    st.integers(-10**400, 10**400).map(str),
+    st.floats().map(repr),
+    st.sampled_from(["", "-1", "0", "nan", "inf", "-inf", "1e308", "1e-320", "paths", "tours", "tsplib"]),
+)
+
+
+@settings(suppress_health_check=[HealthCheck.function_scoped_fixture], deadline=None, max_examples=60)
+@given(options=st.lists(st.tuples(st.sampled_from(
+    ["--robots", "--deadline", "--routes", "--time-limit", "--seed", "--distance"]), _OPTION_VALUES), max_size=3))
+@example(options=[("--deadline", "1e308")])  # robots x deadline overflowed: a RuntimeWarning on stderr
+def test_any_solve_options_give_an_answer_or_one_line(capsys, options):
+    # any value, of any option, any number of times: an answer (0) or one line (2), no traceback
+    argv = ["solve", GRID, "--method", "nn", *(word for pair in options for word in pair)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a warning is a line of noise on the user's screen
+        code, _, err = _run(capsys, argv)
+    assert "Traceback" not in err
+    assert code in (0, 2), err
+    if code == 2:
+        assert len(err.strip().splitlines()) == 1, err
 
 
 # -- the API ------------------------------------------------------------------------
