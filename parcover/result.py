@@ -114,8 +114,16 @@ class Result:
     def has_routes(self) -> bool:
         return bool(self.routes)
 
+    @property
+    def note(self) -> str | None:
+        """Why an answer is not proven or has no routes (the method's message), else None."""
+        if self.info.get("message") and (not self.routes or self.status is not Status.OPTIMAL):
+            return str(self.info["message"])
+        return None
+
     def to_dict(self) -> dict[str, Any]:
-        """The JSON object of design.md section 4."""
+        """The JSON object of design.md section 4, with ``note`` (:attr:`note`) when there
+        is one (an optional key, a compatible extension)."""
         return {
             "instance": self.instance,
             "routes_kind": self.routes_kind,
@@ -131,6 +139,7 @@ class Result:
             "routes": self.routes,
             "route_costs": self.route_costs,
             "seconds": round(self.seconds, 6),
+            **({"note": self.note} if self.note else {}),
         }
 
     def to_json(self) -> str:
@@ -156,8 +165,8 @@ class Result:
                 f"robots    {self.robots}",
                 f"makespan  {_num(self.makespan)}",
             ]
-        if self.info.get("message") and (not self.routes or self.status is not Status.OPTIMAL):
-            lines.append(f"note      {self.info['message']}")
+        if self.note:
+            lines.append(f"note      {self.note}")
         bound = _num(self.bound) if self.bound is not None else "-"
         gap_text = f"{100 * self.gap:.4g}%" if self.gap is not None else "-"
         lines.append(f"bound     {bound}   gap {gap_text}")

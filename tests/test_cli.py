@@ -32,6 +32,16 @@ def test_solve_json_is_one_object_with_the_contract_keys(capsys):
     assert result["objective"] == "makespan" and result["robots_limit"] == 2 and result["robots"] <= 2
 
 
+def test_an_unproven_json_answer_says_why_in_an_optional_note(capsys):
+    # a limit spent before the method starts: no routes, and the reason as the one extra key
+    code, out, _ = run(capsys, "solve", GRID, "--robots", "2", "--time-limit", "1e-9", "--json")
+    result = json.loads(out)
+    assert code == 0 and result["status"] == "unknown" and list(result) == [*CONTRACT_KEYS, "note"]
+    assert "time limit" in result["note"]
+    code, out, _ = run(capsys, "solve", GRID, "--robots", "2", "--json")  # proven: nothing to note
+    assert code == 0 and json.loads(out)["status"] == "optimal" and list(json.loads(out)) == CONTRACT_KEYS
+
+
 def test_solve_output_passes_verify(capsys, tmp_path):
     out_file = tmp_path / "result.json"
     code, _, _ = run(capsys, "solve", GRID, "--method", "trivial", "--routes", "tours", "--out", str(out_file))
