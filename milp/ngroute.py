@@ -79,7 +79,9 @@ With ``exact=False`` dominance ignores the memories (a label with a shorter leng
 a larger prize at the same node wins), which keeps few labels per node; the routes it
 returns are genuine ng-routes, but it may miss the best one, so its :math:`M` certifies
 nothing. Column generation uses it first and the exact labelling only when it finds no
-column.
+column. Its labels are also tested on arrival against those already extended at their
+node (all of them no longer): most are dominated there, and dropping them before the heap
+saves its push and pop (the exact dominance, with memories, rarely holds that early).
 """
 
 from __future__ import annotations
