@@ -85,6 +85,10 @@ def _solve(args: argparse.Namespace) -> int:
         args.routes, args.robots, args.deadline = question.routes, question.robots, question.deadline
         print(f"question from the file ({question.claim}): {question.text}; method {args.method}",
               file=sys.stderr if args.json else sys.stdout)
+        if question.greedy_limit == "none" and args.method == question.method:
+            print(f"note: the claim runs {question.method} without a robot limit (the paper's "
+                  f"Algorithm 2 as published); `parcover props --check {args.instance}` compares "
+                  "that with the optimum", file=sys.stderr if args.json else sys.stdout)
     options: dict[str, object] = {"trace": True} if args.trace else {}
     if args.export_model:
         options["export_model"] = args.export_model

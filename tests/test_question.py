@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import pytest
 
@@ -18,6 +19,8 @@ from parcover.cli import main
 from parcover.errors import InputError
 from parcover.io import read_instance, write_instance
 from parcover.question import Answer, Question, load
+
+ROOT = Path(__file__).resolve().parents[1]
 
 SQRT2 = math.sqrt(2)
 INSTANCE = Instance.from_points([[0, 0], [0, -1], [1, -1]], names=["s", "1", "2"], name="tiny")
@@ -141,6 +144,16 @@ def test_solve_asks_the_files_question(tmp_path, capsys):
     code, out, _ = run(capsys, "solve", path)
     assert out.startswith("question from the file (alg1-1-x1.5-paper-1-1-end): paths, fewest robots within "
                           "deadline 2.12132 (1.5 c_max); method exact\n")
+
+
+def test_solve_with_the_claims_unlimited_greedy_points_to_check(capsys):
+    # the Alg. 2 claim runs the greedy without a limit; asked the file's question (3 tours)
+    # paper's adaptation answers another question, so solve says where the refutation is
+    path = str(ROOT / "instances" / "worst" / "alg2-makespan-paper.json")
+    code, out, _ = run(capsys, "solve", path, "--method", "paper")
+    assert code == 0 and "without a robot limit" in out and f"parcover props --check {path}" in out
+    code, out, _ = run(capsys, "solve", path)  # the exact method: nothing to point at
+    assert code == 0 and "without a robot limit" not in out
 
 
 def test_explicit_flags_override_the_files_question(tmp_path, capsys):
