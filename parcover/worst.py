@@ -56,6 +56,7 @@ import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from parcover.errors import InputError
 from parcover.instance import Instance
@@ -598,14 +599,10 @@ def growth(target: Target, found: Found, members: Sequence[Member]) -> str:
     return f"| {target.claim} | {target.method} | {ratio:.3f} | {-minus_n} | {where} | {verdict} |"
 
 
-def draw_family(length: int, path: Path, exact: str = "setpart") -> Path:
+def draw_family(length: int, path: Path, exact: str = EXACT) -> Path:
     """Draw :func:`halving_line` ``length``: the literal Alg. 1's paths beside the optimum's,
     one lane per robot (the line's points all lie on y = 0, so routes are drawn apart)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = _pyplot()
     from parcover.solve import solve
 
     inst = halving_line(length)
@@ -622,11 +619,7 @@ def draw_family(length: int, path: Path, exact: str = "setpart") -> Path:
         ax.set(title=f"{result.method} ({result.status.value}): {result.robots} paths within c_max = {length}",
                xlabel="x (start at 0)", yticks=[])
         ax.legend(fontsize=7, loc="lower left")
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return _saved(fig, path)
 
 
 def prop2_rows(count: int, seed: int = 0) -> list[tuple[int, int, int]]:
@@ -645,11 +638,7 @@ def prop2_rows(count: int, seed: int = 0) -> list[tuple[int, int, int]]:
 
 def plot_ratios(founds: Sequence[Found], members: Sequence[Member], path: Path) -> Path:
     """Worst ratio against n: per claim from the search, and the halving line's proven members."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = _pyplot()
     fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
     by_claim: dict[str, dict[int, float]] = {}
     for found in founds:
@@ -668,10 +657,25 @@ def plot_ratios(founds: Sequence[Found], members: Sequence[Member], path: Path) 
     right.plot(ns, [(1 + math.log2(n)) / 2 for n in ns], linestyle="--", label="(1 + log2 n) / 2")
     right.set(xscale="log", xlabel="KPOIs n", ylabel="greedy / optimum (proven)", title="halving line, literal reading")
     right.legend(fontsize=8)
+    return _saved(fig, path)
+
+
+def _pyplot() -> Any:
+    """matplotlib's pyplot on the Agg backend (files only), imported when first drawn."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _saved(fig: Any, path: Path) -> Path:
+    """Lay out ``fig``, write it to ``path`` (folders made) and release it."""
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=100)
-    plt.close(fig)
+    _pyplot().close(fig)
     return path
 
 
