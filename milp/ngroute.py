@@ -35,8 +35,9 @@ Completion bounds
 -----------------
 A label whose prize plus an upper bound on what its completion can still collect is at
 most the best prize known (at least the threshold 1) cannot lead to a better route and is
-pruned. The bound :math:`g(b, j)` is the largest prize of a *walk* from ``j`` (any
-repetitions) whose discretised length is at most ``b``: with a grid step :math:`\delta`,
+pruned. The bound :math:`g(b, j)` is the largest prize of a *walk* from ``j`` without
+2-cycles (no ``u -> v -> u``; other repetitions allowed) whose discretised length is at
+most ``b``: with a grid step :math:`\delta`,
 :math:`d'_{ij} = \lfloor d_{ij}/\delta \rfloor`, :math:`r'_j = \lfloor r_j/\delta \rfloor`,
 
 .. math::
@@ -44,10 +45,18 @@ repetitions) whose discretised length is at most ``b``: with a grid step :math:`
               \max_{k:\, d'_{jk} \le b} \pi_k + g(b - d'_{jk}, k)\bigr),
 
 a dynamic programme over ``b = 0..G`` (the q-route bound of Christofides, Mingozzi and
-Toth 1981 run backwards). A real completion of length :math:`s` with
+Toth 1981 run backwards), where the walk from ``k`` may not go back to ``j`` at once
+(each ``(b, k)`` keeps its best walk and the best one through another first step: their
+2-cycle elimination). A real completion of length :math:`s` with
 :math:`l + s + r \le U` has discretised length at most :math:`\lfloor (U - l)/\delta
 \rfloor` (a sum of floors is at most the floor of the sum), so :math:`g` bounds every
-completion, elementary or not. The grid needs :math:`d'_{ij} \ge 1` for all arcs (no
+completion whose KPOIs are distinct and differ from ``j``: every tail of an elementary
+route. That is all the certificate needs: a label on the way to an elementary route ``R``
+is kept, or pruned because ``R`` cannot beat the best prize, or dominated by a label
+that reaches at least ``R``'s prize with ``R``'s tail, to which the same holds. So the
+best prize found is at least every elementary route's (ng-routes with 2-cycles may be
+pruned; measured: fewest tours within 2 c_max, n = 50, one exact pricing 7.9 s -> 2.0 s).
+The grid needs :math:`d'_{ij} \ge 1` for all arcs (no
 zero-length cycles), i.e. :math:`\delta` at most the smallest distance; when that would
 need more than ``MAX_GRID`` steps, no completion bound is used (still exact, slower).
 
@@ -67,7 +76,7 @@ and every ng-route is still a :math:`\Pi`-route, so its best prize bounds theirs
 the best route found has a cycle the :math:`N_i` forbid (KPOI :math:`v` visited twice
 and in the neighbourhood of every KPOI between), :math:`v` is added to the
 :math:`\Pi` of those KPOIs and the labelling runs again, until the best route is an
-ng-route (then its prize is the ng optimum) or no route beats the threshold
+ng-route (then its prize is at least every elementary route's) or no route beats the threshold
 (Righini and Salani 2008, Networks 51; with ng-routes Martinelli, Pecin and Poggi 2014,
 Oper. Res. Letters 42). The :math:`\Pi` grow over the whole search. On fewest tours
 within 1.2 x 2 c_max, n = 50 (four long tours), the proving pricing did 5-14x less work
@@ -294,10 +303,18 @@ def _trace(label: int, parents: np.ndarray, nodes: np.ndarray) -> np.ndarray:
 
 @njit(cache=True)
 def _completion_table(dd, back, prize, allowed, can_end, G, stop_at):  # pragma: no cover - compiled
-    """``g(b, j)`` of the module docstring for ``b = 0..G`` (``-inf``: cannot end), or
-    None when the clock passes ``stop_at`` first (read every :data:`CLOCK_EVERY` steps)."""
+    """``g(b, j)`` of the module docstring for ``b = 0..G`` (``-inf``: cannot end), over
+    walks without 2-cycles, or None when the clock passes ``stop_at`` first (read every
+    :data:`CLOCK_EVERY` steps).
+
+    Each ``(b, j)`` keeps its best value, the KPOI that walk goes to next (0: it ends),
+    and the best value through another next KPOI; a walk from ``j`` to ``k`` then uses
+    ``k``'s best unless that returns to ``j`` at once, else ``k``'s second (Christofides,
+    Mingozzi and Toth 1981)."""
     m1 = dd.shape[0]
     table = np.full((G + 1, m1), -np.inf)
+    second = np.full((G + 1, m1), -np.inf)
+    after = np.zeros((G + 1, m1), np.int64)  # next KPOI of the best walk (0: it ends)
     work = 0
     for b in range(G + 1):
         work += m1 * m1
@@ -309,15 +326,22 @@ def _completion_table(dd, back, prize, allowed, can_end, G, stop_at):  # pragma:
                 return None
         for j in range(1, m1):
             best = 0.0 if (can_end[j] and back[j] <= b) else -np.inf
+            nxt = 0
+            other = -np.inf
             for k in range(1, m1):
                 if k == j or not allowed[j, k]:
                     continue
                 c = dd[j, k]
                 if c <= b:
-                    v = table[b - c, k]
-                    if v > -np.inf and v + prize[k] > best:
-                        best = v + prize[k]
-            table[b, j] = best
+                    v = table[b - c, k] if after[b - c, k] != j else second[b - c, k]
+                    if v == -np.inf:
+                        continue
+                    v += prize[k]
+                    if v > best:
+                        other, best, nxt = best, v, k
+                    elif v > other:
+                        other = v
+            table[b, j], second[b, j], after[b, j] = best, other, nxt
     return table
 
 
