@@ -96,7 +96,7 @@ def plot_routes(
     """
     fig, ax = plt.subplots(figsize=(10, 6))
     _draw_routes(ax, instance, result, title)
-    _save(fig, path, dpi=130)
+    save_figure(fig, path, dpi=130)
 
 
 def plot_side_by_side(
@@ -110,7 +110,7 @@ def plot_side_by_side(
     fig, axes = plt.subplots(1, len(results), figsize=(7.5 * len(results), 5), squeeze=False)
     for ax, result, title in zip(axes[0], results, titles):
         _draw_routes(ax, instance, result, title)
-    _save(fig, path, dpi=110)
+    save_figure(fig, path, dpi=110)
 
 
 def plot_frontier(
@@ -151,7 +151,7 @@ def plot_frontier(
     name = frontier.instance or "instance"
     ax.set_title(f"{name}: {frontier.routes_kind} frontier ({frontier.method})", fontsize=9)
     ax.grid(alpha=0.3)
-    _save(fig, path, dpi=130)
+    save_figure(fig, path, dpi=130)
 
 
 def plot_gap_distribution(frame: Any, path: str | os.PathLike[str]) -> None:
@@ -166,11 +166,11 @@ def plot_gap_distribution(frame: Any, path: str | os.PathLike[str]) -> None:
     ax.set_ylabel("gap to optimum (%)")
     ax.set_title("Gap to the optimum per method (all questions)", fontsize=9)
     ax.grid(alpha=0.3, axis="y")
-    _save(fig, path, dpi=130)
+    save_figure(fig, path, dpi=130)
 
 
-def _save(fig: Any, path: str | os.PathLike[str], *, dpi: int) -> None:
-    """Lay out, write and release a figure."""
+def save_figure(fig: Any, path: str | os.PathLike[str], *, dpi: int) -> None:
+    """Lay out, write and release a figure (every drawing of the package ends here)."""
     fig.tight_layout()
     fig.savefig(path, dpi=dpi)
     plt.close(fig)

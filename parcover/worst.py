@@ -602,7 +602,7 @@ def growth(target: Target, found: Found, members: Sequence[Member]) -> str:
 def draw_family(length: int, path: Path, exact: str = EXACT) -> Path:
     """Draw :func:`halving_line` ``length``: the literal Alg. 1's paths beside the optimum's,
     one lane per robot (the line's points all lie on y = 0, so routes are drawn apart)."""
-    plt = _pyplot()
+    from parcover.plot import plt
     from parcover.solve import solve
 
     inst = halving_line(length)
@@ -638,7 +638,8 @@ def prop2_rows(count: int, seed: int = 0) -> list[tuple[int, int, int]]:
 
 def plot_ratios(founds: Sequence[Found], members: Sequence[Member], path: Path) -> Path:
     """Worst ratio against n: per claim from the search, and the halving line's proven members."""
-    plt = _pyplot()
+    from parcover.plot import plt
+
     fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
     by_claim: dict[str, dict[int, float]] = {}
     for found in founds:
@@ -660,22 +661,12 @@ def plot_ratios(founds: Sequence[Found], members: Sequence[Member], path: Path) 
     return _saved(fig, path)
 
 
-def _pyplot() -> Any:
-    """matplotlib's pyplot on the Agg backend (files only), imported when first drawn."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def _saved(fig: Any, path: Path) -> Path:
-    """Lay out ``fig``, write it to ``path`` (folders made) and release it."""
-    fig.tight_layout()
+    """Write ``fig`` to ``path`` with :func:`parcover.plot.save_figure`, folders made."""
+    from parcover.plot import save_figure
+
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=100)
-    _pyplot().close(fig)
+    save_figure(fig, path, dpi=100)
     return path
 
 
