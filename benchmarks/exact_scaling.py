@@ -260,10 +260,7 @@ def ratio_table(frame: pd.DataFrame) -> pd.DataFrame:
 def plot(frame: pd.DataFrame, config: Config) -> str:
     """Log-scale time vs n per model (k = 3 paths, least makespan; median over seeds,
     unproven runs counted at their limit and marked x)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from parcover.plot import plt, save_figure
 
     path, link = config.figure("exact_scaling.png")
     data = frame[(frame["problem"] == "makespan k=3") & (frame["routes"] == "paths")].copy()
@@ -280,9 +277,7 @@ def plot(frame: pd.DataFrame, config: Config) -> str:
     ax.set_title("least makespan, k = 3 paths, random Euclidean")
     if not data.empty:
         ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    save_figure(fig, path, dpi=100)
     return link
 
 

@@ -151,10 +151,7 @@ def target_line(frame: pd.DataFrame) -> str:
 
 def plot(frame: pd.DataFrame, least: float, path) -> None:
     """Log-log time against n, one line per method, the exponent in the legend."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from parcover.plot import plt, save_figure
 
     figure, axes = plt.subplots(figsize=(11, 6))
     colours = plt.get_cmap("tab20").colors
@@ -171,9 +168,7 @@ def plot(frame: pd.DataFrame, least: float, path) -> None:
     axes.set_title("Greedy methods on uniform random Euclidean instances")
     axes.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
     axes.grid(True, which="both", linewidth=0.3)
-    figure.tight_layout()
-    figure.savefig(path, dpi=120)
-    plt.close(figure)
+    save_figure(figure, path, dpi=120)
 
 
 def run(config: Config) -> Section:

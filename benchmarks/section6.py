@@ -47,20 +47,16 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import matplotlib
+import numpy as np
+import pandas as pd
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
-
-import parcover  # noqa: E402
-from benchmarks.common import ROOT, Config, Section, compile_pricing, markdown_table  # noqa: E402
-from parcover.instance import Instance  # noqa: E402
-from parcover.io import write_instance  # noqa: E402
-from parcover.maps import instance_from_map  # noqa: E402
-from parcover.plot import plot_side_by_side  # noqa: E402
-from parcover.result import Result  # noqa: E402
+import parcover
+from benchmarks.common import ROOT, Config, Section, compile_pricing, markdown_table
+from parcover.instance import Instance
+from parcover.io import write_instance
+from parcover.maps import instance_from_map
+from parcover.plot import plot_side_by_side, plt, save_figure
+from parcover.result import Result
 
 __all__ = [
     "MapCase",
@@ -315,9 +311,7 @@ def _plot_fig6(paths: pd.DataFrame, path: Path) -> None:
             ax.grid(alpha=0.3)
             ax.legend(fontsize=7, framealpha=0.6)
         bottom.yaxis.get_major_locator().set_params(integer=True)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path, dpi=110)
 
 
 def _exact_series(
