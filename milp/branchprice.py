@@ -64,6 +64,15 @@ keeps its structure. Every coverage solution
 is not cannot be branched on; the search then ends unproven (status ``feasible``), never
 with a wrong claim.
 
+Route enumeration
+-----------------
+A node whose LP bound ``z`` leaves a gap ``k - z`` below 1 route can be answered without
+branching: only routes of reduced cost at most the gap can be in a solution of at most
+``k`` routes, so :mod:`milp.enumeration` lists their KPOI sets (when there are not too
+many) and a set-covering MIP over them (HiGHS) finds the node's fewest routes (Baldacci,
+Christofides and Mingozzi 2008; Baldacci, Mingozzi and Roberti 2011). Tried from the
+root down, for targets in :data:`ENUMERATION_ROUTES`.
+
 Primal side: the incumbent comes from the caller (``warm_start``, e.g. parcover's
 ``best``), from integral master solutions, and from the master solved as an integer
 program over the pool (price-and-branch) at the root.
@@ -94,8 +103,8 @@ from scipy import sparse
 
 from milp.bounds import makespan_lower_bound as tree_makespan_bound
 from milp.bounds import robots_lower_bound as tree_robots_bound
-from milp import ngroute
-from milp.colgen import fewest_covering
+from milp import enumeration, ngroute
+from milp.colgen import covering_solve, fewest_covering
 from milp.highs import make_lp, new_highs
 from milp.merge import Merged, merge_zero_distances
 from milp.result import MilpResult, relative_gap
@@ -141,6 +150,21 @@ CUT_MIN_ROUTES = 6
 STRONG_CANDIDATES = 8
 #: A lambda or an arc flow within this of an integer counts as integral.
 INTEGRAL = 1e-6
+#: Route enumeration (:mod:`milp.enumeration`) at a node whose LP leaves a gap below
+#: this (routes up to it); it gives up past :data:`ENUMERATION_STATES` partial routes,
+#: and is then tried again only where the gap is below :data:`ENUMERATION_RETRY` x the
+#: gap it gave up at.
+ENUMERATION_GAP = 1.0
+#: ... and only for targets in this range of routes: with 2 the covering MIP struggles to
+#: find two complementary sets (n = 20, k = 2 paths, tests/milp/test_counting.py: 95 s with
+#: enumeration, most of it in ten MIPs of 2-20 s, each improving the makespan a little,
+#: against 1.9 s without); with 6 or more (fewest robots at n = 50, where the subset-row
+#: cuts work) it lost 4 of 36 questions proven within 10 s and won 3.
+ENUMERATION_ROUTES = (3, CUT_MIN_ROUTES - 1)
+ENUMERATION_STATES = 2_000_000
+ENUMERATION_RETRY = 0.5
+#: Prize slack of the enumeration threshold (round-off in sums of duals).
+ENUMERATION_SLACK = 1e-9
 
 
 class _Pool:
@@ -247,6 +271,15 @@ class _LpOutcome:
     x: np.ndarray
     why: str
     master: highspy.Highs | None = None  # the master LP just solved (set when why is "solved")
+    duals: np.ndarray | None = None  # (pi, sigma) certifying ``bound`` (scaled by Farley's M)
+
+
+@dataclass
+class _Settled:
+    """A node answered by route enumeration: its fewest routes when at most the target,
+    else None (the node holds no such solution)."""
+
+    routes: list[list[int]] | None
 
 
 def _rounded_up(bound: float) -> float:
@@ -265,10 +298,11 @@ class _Search:
         self.pool.add([np.array([j]) for j in range(1, self.m + 1)])
         self.stop_at = stop_at
         self.nodes = 0
-        _compile_cut_functions()
+        _compile_rarely_used()
         self.cuts: list[tuple[int, int, int]] = []
         self.cut_bits = np.zeros(self.m + 1, dtype=np.uint64)  # bit t: in cut t's triple
         self.cut_memory = np.zeros(self.m + 1, dtype=np.uint64)  # bit t: in cut t's memory
+        self.enumeration_gap = ENUMERATION_GAP  # enumerate at nodes with a smaller LP gap
 
     def out_of_time(self) -> bool:
         return self.stop_at is not None and time.perf_counter() >= self.stop_at
@@ -325,20 +359,23 @@ class _Search:
             why = "closed" if covered is False else "time limit"
             return _LpOutcome(math.inf if covered is False else 0.0, math.inf, columns,
                               np.zeros(0), why)
-        bound = 0.0
+        outcome = _LpOutcome(0.0, math.inf, columns, np.zeros(0), "")
         while True:
-            outcome = self._column_generation(node, budget, target, columns, bound)
-            bound = outcome.bound
-            if (outcome.why != "solved" or _rounded_up(bound) > target
+            outcome = self._column_generation(node, budget, target, columns, outcome)
+            if (outcome.why != "solved" or _rounded_up(outcome.bound) > target
                     or self.integral_routes(outcome) is not None or not self._separate(outcome)):
                 return outcome
 
     def _column_generation(self, node: _Node, budget: float, target: float, columns: list[int],
-                           bound: float) -> _LpOutcome:
-        """Column generation over the master with the current cuts (``bound``: one
-        already certified at this node)."""
+                           known: _LpOutcome, *, converge: bool = False) -> _LpOutcome:
+        """Column generation over the master with the current cuts (``known``: a bound
+        already certified at this node, with its duals). It stops when the certified
+        bound rounds up to the LP value's integer or, with ``converge``, when it reaches
+        the LP value (the duals then price out exactly)."""
         h = self._master(columns)
-        center = None
+        bound, center, certificate = known.bound, None, known.duals
+        if certificate is not None:  # cuts added since: their duals 0 certify the same bound
+            certificate = np.concatenate((certificate, np.zeros(self.m + len(self.cuts) - len(certificate))))
         while True:
             h.run()
             assert h.getModelStatus() == highspy.HighsModelStatus.kOptimal, "master LP not solved"
@@ -347,10 +384,11 @@ class _Search:
             # (pi, sigma) >= 0: covering duals, and cut duals with their sign turned
             duals = np.concatenate((np.maximum(row_dual[:self.m], 0.0), np.maximum(-row_dual[self.m:], 0.0)))
             x = np.asarray(h.getSolution().col_value, dtype=np.float64)
-            if _rounded_up(bound) >= _rounded_up(value) or bound >= value * (1 - 1e-7):
-                return _LpOutcome(bound, value, columns, x, "solved", h)
+            if ((_rounded_up(bound) >= _rounded_up(value) and not converge)
+                    or bound >= value * (1 - 1e-7)):
+                return _LpOutcome(bound, value, columns, x, "solved", h, certificate)
             if self.out_of_time():
-                return _LpOutcome(bound, value, columns, x, "time limit")
+                return _LpOutcome(bound, value, columns, x, "time limit", duals=certificate)
             found = 0
             for y, exact in self._duals_to_try(duals, center):
                 res = self._price_duals(y, budget, node, exact=exact,
@@ -359,8 +397,9 @@ class _Search:
                     certified = self._farley(y, res.best)
                     if certified > bound:
                         bound, center = certified, y / max(res.best, 1.0)
+                        certificate = center
                     if _rounded_up(bound) > target:
-                        return _LpOutcome(bound, value, columns, x, "closed")
+                        return _LpOutcome(bound, value, columns, x, "closed", duals=certificate)
                 useful = [r for r in res.routes if self._route_value(r, duals) > 1 + 1e-9]
                 found = self._append(h, columns, useful, budget, node)
                 if found:
@@ -370,7 +409,7 @@ class _Search:
                 # the clock stopped the exact pricing
                 why = ("solved" if bound >= value * (1 - 1e-7)
                        else "time limit" if self.out_of_time() else "pricing stalled")
-                return _LpOutcome(bound, value, columns, x, why, h)
+                return _LpOutcome(bound, value, columns, x, why, h, certificate)
 
     def _farley(self, y: np.ndarray, best: float) -> float:
         """Farley's bound (4) for duals ``y = (pi, sigma)`` whose best route prize is ``best``:
@@ -572,13 +611,18 @@ class _Search:
         stack = [_Node.root(self.m)]
         root_bound: int | None = None
         unresolved = False
+        self.enumeration_gap = ENUMERATION_GAP
         while stack:
             if self.out_of_time():
                 return best, root_bound, "unknown"
             node = stack.pop()
             outcome = self.solve_node(node, budget, target)
             rounded = _rounded_up(outcome.bound)
-            candidates = []
+            settled = None
+            if outcome.why == "solved" and rounded <= target and self.integral_routes(outcome) is None:
+                outcome, settled = self._enumerate(node, outcome, budget, target)
+                rounded = _rounded_up(outcome.bound)
+            candidates = [] if settled is None else [settled.routes]
             if root_bound is None:
                 root_bound = max(1, rounded) if math.isfinite(rounded) else None
                 if rounded <= target:
@@ -594,8 +638,8 @@ class _Search:
                         return best, root_bound, "found"
             if outcome.why == "time limit":
                 return best, root_bound, "unknown"
-            if rounded > target:
-                continue
+            if rounded > target or settled is not None:
+                continue  # closed by its bound, or answered by enumeration
             if outcome.why != "solved":
                 unresolved = True
                 continue
@@ -608,6 +652,44 @@ class _Search:
             one, zero = node.children(arc, tours=self.tours)
             stack.extend([zero, one])
         return best, root_bound, "unknown" if unresolved else "exhausted"
+
+    def _enumerate(self, node: _Node, outcome: _LpOutcome, budget: float, target: int,
+                   ) -> tuple[_LpOutcome, _Settled | None]:
+        """Answer ``node`` by route enumeration when its LP gap allows (:mod:`milp.enumeration`).
+
+        The LP is first solved to the end (its duals then give the smallest gap
+        ``target - z``); the sets whose route can be in a solution of at most ``target``
+        routes are listed and a set-covering MIP over them finds the node's fewest routes.
+        Returns the (re-solved) outcome and, when the node is answered, its best routes
+        (None: none with at most ``target``). Gives up (None) when the listing grows past
+        :data:`ENUMERATION_STATES` (the gap it gave up at then bars nodes with gaps not below
+        :data:`ENUMERATION_RETRY` x it) or the MIP is not solved in the time left."""
+        low, high = ENUMERATION_ROUTES
+        if not low <= target <= high or target - outcome.value >= self.enumeration_gap:
+            return outcome, None
+        outcome = self._column_generation(node, budget, target, outcome.columns, outcome, converge=True)
+        if outcome.why not in ("solved", "closed") or outcome.duals is None:
+            return outcome, None
+        if _rounded_up(outcome.bound) > target:
+            return outcome, _Settled(None)
+        y = outcome.duals / (1 + CERT_TOL)
+        gap = target - float(y[:self.m].sum() - y[self.m:].sum())
+        if gap >= self.enumeration_gap:
+            return outcome, None
+        orders = enumeration.routes_within_gap(
+            self.pricing.D, self.pricing.back, np.concatenate(([0.0], y[:self.m])), budget,
+            1.0 - gap - ENUMERATION_SLACK, node.allowed, node.allowed[:, 0],
+            max_states=ENUMERATION_STATES, stop_at=math.inf if self.stop_at is None else self.stop_at)
+        if orders is None:
+            self.enumeration_gap = ENUMERATION_RETRY * gap
+            return outcome, None
+        self.pool.add(orders)
+        solve, routes = covering_solve(orders, self.m, self.left())
+        if solve.status == "optimal" and solve.objective is not None:
+            return outcome, _Settled(routes if solve.objective <= target + ROUND else None)
+        if solve.status == "infeasible" or (solve.bound is not None and solve.bound > target + ROUND):
+            return outcome, _Settled(None)
+        return outcome, None
 
     def _root_ip_time(self) -> float:
         left = self.left()
@@ -672,20 +754,25 @@ def compile_pricing() -> None:
     min_robots(D, 0.6 * float(D.sum(axis=1).max()), tours=False)
 
 
-def _compile_cut_functions() -> None:
-    """Compile the subset-row cut functions, which a search may never call, on toy
-    arguments of the types a search passes: so that after one solve the on-disk cache
-    holds every compiled function and :func:`ready_within` holds."""
+def _compile_rarely_used() -> None:
+    """Compile the subset-row cut and enumeration functions, which a search may never
+    call, on toy arguments of the types a search passes: so that after one solve the
+    on-disk cache holds every compiled function and :func:`ready_within` holds."""
     if not _compiled(_violated_triples):
         _violated_triples(np.zeros((1, 3)), np.zeros(1), CUT_VIOLATION)
     if not _compiled(ngroute._cut_counts):
         bits = np.zeros(2, dtype=np.uint64)
         ngroute.cut_coefficients([np.array([1])], bits, bits, 1)
+    if not _compiled(enumeration._extend):
+        D = np.array([[0.0, 1.0], [1.0, 0.0]])
+        enumeration.routes_within_gap(D, D[:, 0].copy(), np.array([0.0, 1.0]), 2.0, 0.5,
+                                      np.ones((2, 2), dtype=bool), np.ones(2, dtype=bool), max_states=10)
 
 
 def _jitted() -> list[Dispatcher]:
     """The compiled functions of the pricing and of the cut separation."""
-    return [f for f in (*vars(ngroute).values(), _violated_triples) if isinstance(f, Dispatcher)]
+    return [f for f in (*vars(ngroute).values(), *vars(enumeration).values(), _violated_triples)
+            if isinstance(f, Dispatcher)]
 
 
 def _compiled(function: Dispatcher) -> bool:

@@ -88,7 +88,7 @@ from scipy import sparse
 from milp.bounds import makespan_lower_bound as tree_lower_bound
 from milp.deadline import Deadline, TimeLimit
 from milp.bounds import robots_lower_bound as tree_robots_bound
-from milp.highs import make_lp, new_highs, solve_lp
+from milp.highs import LpSolve, make_lp, new_highs, solve_lp
 from milp.merge import merge_zero_distances
 from milp.routes import check_distance_matrix, first_visits, least_makespan, route_cost, within
 
@@ -510,8 +510,14 @@ def fewest_covering(orders: list[np.ndarray], n: int, time_limit: float | None) 
     """The fewest of ``orders`` (KPOI sequences over ``1..n``) covering every KPOI: the
     set-covering integer program in HiGHS within ``time_limit``, the chosen routes made a
     partition by :func:`milp.routes.first_visits`. None when no covering was found in time."""
+    return covering_solve(orders, n, time_limit)[1]
+
+
+def covering_solve(orders: list[np.ndarray], n: int, time_limit: float | None,
+                   ) -> tuple[LpSolve, list[list[int]] | None]:
+    """:func:`fewest_covering` with what HiGHS established (status, count, bound)."""
     if not orders:
-        return None
+        return LpSolve("infeasible", None, None, None, 0, "no routes"), None
     rows = np.concatenate(orders) - 1
     cols = np.repeat(np.arange(len(orders)), [len(o) for o in orders])
     matrix = sparse.csc_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, len(orders)))
@@ -520,8 +526,8 @@ def fewest_covering(orders: list[np.ndarray], n: int, time_limit: float | None) 
                  np.ones(len(orders), dtype=bool))
     solve = solve_lp(lp, time_limit=time_limit)
     if solve.values is None:
-        return None
-    return first_visits([orders[c] for c in np.flatnonzero(solve.values > 0.5)])
+        return solve, None
+    return solve, first_visits([orders[c] for c in np.flatnonzero(solve.values > 0.5)])
 
 
 def robots_lower_bound(

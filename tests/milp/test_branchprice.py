@@ -126,6 +126,7 @@ def test_strong_branching_reaches_setparts_optimum(monkeypatch):
         return arc
 
     monkeypatch.setattr(branchprice._Search, "branching_arc", recording)
+    monkeypatch.setattr(branchprice, "ENUMERATION_ROUTES", (0, -1))  # enumeration would answer the root
     # seed 1 branches at both sizes (measured: with the most fractional arc instead, n = 16
     # is not proven in 60 s)
     for n, k in ((16, 4), (20, 5)):

@@ -1,0 +1,204 @@
+r"""Route enumeration: every route that can still be in a solution with at most ``k`` routes.
+
+Branch-and-price (:mod:`milp.branchprice`) decides "at most ``k`` routes within ``U``" at
+a node whose LP bound ``z`` lies below ``k``. With duals :math:`\pi` that no route
+within ``U`` prices above 1 (Farley's scaling, :mod:`milp.colgen` eq. (4)), every route
+has reduced cost :math:`\bar c_r = 1 - \pi(r) \ge 0`, and a solution of ``N`` routes
+partitioning the KPOIs has :math:`N = z + \sum_r \bar c_r` (:math:`z = \sum_i \pi_i`).
+So :math:`N \le k` needs :math:`\bar c_r \le k - z` for each of its routes: only the KPOI
+sets of prize at least :math:`1 - (k - z)` can occur (Baldacci, Christofides and Mingozzi,
+"An exact algorithm for the vehicle routing problem based on the set partitioning
+formulation with additional cuts", Math. Program. 115 (2008), section 4; Baldacci,
+Mingozzi and Roberti 2011, section 5). When the gap :math:`k - z` is small there are few
+such sets: this module lists them all and a set-covering MIP over them answers the node
+(a solution, or a proof that none has at most ``k`` routes), instead of a branching tree.
+With subset-row cuts the dual objective is :math:`\sum \pi - \sum \sigma` and a route's
+reduced cost is :math:`1 - \pi(r) + \sigma a(r) \ge 1 - \pi(r)` (the cut rows are at most
+1 in any solution), so the same prize threshold on :math:`\pi` alone is still a superset.
+
+Listing
+-------
+Partial routes are grown one KPOI at a time, level by level (level ``q``: ``q`` KPOIs),
+as states ``(S, j, l, p)``: KPOI set ``S``, last KPOI ``j``, length ``l``, prize
+``p = pi(S)``. Of the states with the same ``(S, j)`` only the shortest is kept (every
+completion of the others completes it no longer). A state is dropped when ``p`` plus
+the completion bound of :mod:`milp.ngroute` (the most prize a walk without 2-cycles
+from ``j`` can still collect within ``U - l``, an upper bound for every elementary
+tail) is below the threshold. A state that may end (the way home fits for tours, the
+node's branching lets it end at ``j``) with ``p`` at or above the threshold is a set of
+the family; each set keeps its shortest route.
+
+A set contained in another of the family is not needed for covering (the larger one
+covers it, and a covering shortcuts to a partition with no longer routes): only the
+maximal sets go to the MIP. If ``S`` is in the family and ``S'`` strictly contains it,
+so is ``S + {v}`` for ``v`` in ``S' - S`` (its prize is between theirs, and shortcutting
+the route of ``S'`` gives one of ``S + {v}``), so testing the one-KPOI extensions finds
+every non-maximal set (at the root; under branching's arc restrictions some may stay,
+which only costs the MIP a column).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from numba import njit
+
+from milp.ngroute import _completion_table, _grid_step, _grow
+
+__all__ = ["routes_within_gap"]
+
+
+def routes_within_gap(
+    D: np.ndarray,
+    back: np.ndarray,
+    prize: np.ndarray,
+    budget: float,
+    threshold: float,
+    allowed: np.ndarray,
+    can_end: np.ndarray,
+    *,
+    max_states: int,
+    stop_at: float = math.inf,
+) -> list[np.ndarray] | None:
+    """One shortest route for every maximal KPOI set whose prize reaches ``threshold``
+    and which has a route within ``budget`` (module docstring).
+
+    Parameters
+    ----------
+    D, back : numpy.ndarray
+        The ``(m+1, m+1)`` metric (positive off the diagonal) and the length added when a
+        route ends at each node (``D[:, 0]`` for tours, zeros for paths).
+    prize : numpy.ndarray
+        ``(m+1,)`` non-negative, ``prize[0] = 0``.
+    budget, threshold : float
+        Longest route, least prize.
+    allowed, can_end : numpy.ndarray
+        Arcs the routes may use (row 0: first arcs) and KPOIs they may end at.
+    max_states : int
+        Give up (return None) when more partial routes than this would be kept.
+    stop_at : float
+        A ``time.perf_counter()`` value; None is returned once it passes (read between levels).
+
+    Returns
+    -------
+    list of numpy.ndarray or None
+        KPOI sequences, or None when the listing gave up.
+    """
+    m1 = len(D)
+    words = (m1 + 63) // 64
+    grid = _grid_step(budget, float(D[~np.eye(m1, dtype=bool)].min()) if m1 > 1 else 1.0)
+    if grid is None:
+        return None  # no completion bound: the listing would not be pruned
+    delta, G = grid
+    dd = np.floor(D / delta).astype(np.int64)
+    table = _completion_table(dd, np.floor(back / delta).astype(np.int64), prize, allowed, can_end, G, stop_at)
+    if table is None:
+        return None
+    sets = np.zeros((1, words), np.uint64)
+    last, length, gained = np.zeros(1, np.int64), np.zeros(1), np.zeros(1)
+    levels: list[tuple[np.ndarray, np.ndarray]] = []  # (parent, last) of every kept state
+    found: list[tuple[int, np.ndarray, np.ndarray, np.ndarray]] = []  # level, states, sets, lengths
+    total = 0
+    while len(last):
+        parent, last, length, gained = _extend(sets, last, length, gained, D, back, prize, allowed,
+                                               budget, threshold, table, delta, G)
+        sets = sets[parent]
+        sets[np.arange(len(last)), last // 64] |= np.left_shift(np.uint64(1), (last % 64).astype(np.uint64))
+        sets, last, length, gained, parent = _shortest_per_end(sets, last, length, gained, parent)
+        total += len(last)
+        if total > max_states or time.perf_counter() >= stop_at:
+            return None
+        levels.append((parent, last))
+        ends = np.flatnonzero((gained >= threshold) & can_end[last])
+        if len(ends):
+            found.append((len(levels) - 1, ends, sets[ends], length[ends] + back[last[ends]]))
+    if not found:
+        return []
+    family = np.concatenate([f[2] for f in found])
+    lengths = np.concatenate([f[3] for f in found])
+    where = np.concatenate([np.stack([np.full(len(f[1]), f[0]), f[1]], axis=1) for f in found])
+    order = np.lexsort((lengths, *(family[:, w] for w in range(words))))
+    family, where = family[order], where[order]
+    first = np.ones(len(order), dtype=bool)
+    first[1:] = np.any(family[1:] != family[:-1], axis=1)
+    family, where = family[first], where[first]
+    keep = _maximal(family, m1)
+    return [_trace(levels, int(level), int(index)) for level, index in where[keep]]
+
+
+def _trace(levels: list[tuple[np.ndarray, np.ndarray]], level: int, index: int) -> np.ndarray:
+    """The KPOIs of the state ``index`` of ``level``, from the start."""
+    route = []
+    while level >= 0:
+        parent, last = levels[level]
+        route.append(int(last[index]))
+        index, level = int(parent[index]), level - 1
+    return np.array(route[::-1], dtype=np.int64)
+
+
+def _rows(a: np.ndarray) -> np.ndarray:
+    """Each row of ``a`` as one comparable value (a void view)."""
+    a = np.ascontiguousarray(a)
+    return a.view(np.dtype((np.void, a.dtype.itemsize * a.shape[1]))).ravel()
+
+
+def _maximal(family: np.ndarray, m1: int) -> np.ndarray:
+    """Which sets of ``family`` (distinct bit rows) have no one-KPOI extension in it."""
+    known = _rows(family)
+    keep = np.ones(len(family), dtype=bool)
+    for v in range(1, m1):
+        w, bit = divmod(v, 64)
+        flag = np.uint64(1) << np.uint64(bit)
+        lacking = np.flatnonzero((family[:, w] & flag) == 0)
+        grown = family[lacking].copy()
+        grown[:, w] |= flag
+        keep[lacking[np.isin(_rows(grown), known)]] = False
+    return keep
+
+
+def _shortest_per_end(sets, last, length, gained, parent):
+    """Of the states with the same set and last KPOI, the shortest."""
+    if len(last) == 0:
+        return sets, last, length, gained, parent
+    order = np.lexsort((length, last, *(sets[:, w] for w in range(sets.shape[1]))))
+    s, e = sets[order], last[order]
+    first = np.ones(len(order), dtype=bool)
+    first[1:] = np.any(s[1:] != s[:-1], axis=1) | (e[1:] != e[:-1])
+    keep = order[first]
+    return sets[keep], last[keep], length[keep], gained[keep], parent[keep]
+
+
+@njit(cache=True)
+def _extend(sets, last, length, gained, D, back, prize, allowed, budget, threshold, table, delta,
+            G):  # pragma: no cover - compiled
+    """Every state one KPOI longer that fits the budget (the way home included) and whose
+    prize plus completion bound reaches ``threshold``: its parent's index, last KPOI,
+    length and prize."""
+    m1 = D.shape[0]
+    size = max(16, 4 * len(last))
+    out_parent = np.zeros(size, np.int64)
+    out_last = np.zeros(size, np.int64)
+    out_length = np.zeros(size)
+    out_gained = np.zeros(size)
+    count = 0
+    for s in range(len(last)):
+        i = last[s]
+        for j in range(1, m1):
+            if sets[s, j // 64] & (np.uint64(1) << np.uint64(j % 64)) or not allowed[i, j]:
+                continue
+            reach = length[s] + D[i, j]
+            if reach + back[j] > budget:
+                continue
+            p = gained[s] + prize[j]
+            b = int(math.floor((budget - reach) / delta * (1.0 + 1e-12))) + 1
+            if b < 0 or p + table[min(b, G), j] < threshold:
+                continue
+            if count == size:
+                size *= 2
+                out_parent, out_last = _grow(out_parent, size), _grow(out_last, size)
+                out_length, out_gained = _grow(out_length, size), _grow(out_gained, size)
+            out_parent[count], out_last[count], out_length[count], out_gained[count] = s, j, reach, p
+            count += 1
+    return out_parent[:count], out_last[:count], out_length[:count], out_gained[:count]

@@ -1,0 +1,106 @@
+"""Route enumeration (milp/enumeration.py) against brute force, and branch-and-price
+answering nodes with it against set partitioning."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+from milp import branchprice, setpart
+from milp.enumeration import routes_within_gap
+from milp.routes import least_makespan
+
+
+def _length(D: np.ndarray, back: np.ndarray, route: tuple[int, ...]) -> float:
+    walk = (0, *route)
+    return float(sum(D[a, b] for a, b in zip(walk, walk[1:])) + back[route[-1]])
+
+
+def _brute_force_family(D, back, prize, budget, threshold, allowed, can_end) -> dict[frozenset, float]:
+    """Every KPOI set with a route (all orders tried) within the budget, respecting the
+    arcs and ends, whose prize reaches the threshold: its shortest such route's length."""
+    n = len(D) - 1
+    family: dict[frozenset, float] = {}
+    for size in range(1, n + 1):
+        for route in itertools.permutations(range(1, n + 1), size):
+            walk = (0, *route)
+            if not all(allowed[a, b] for a, b in zip(walk, walk[1:])) or not can_end[route[-1]]:
+                continue
+            length = _length(D, back, route)
+            if length <= budget and prize[list(route)].sum() >= threshold:
+                key = frozenset(route)
+                family[key] = min(family.get(key, np.inf), length)
+    return family
+
+
+@pytest.mark.parametrize("seed", range(24))
+def test_lists_every_maximal_set_with_its_shortest_route(seed):
+    rng = np.random.default_rng(seed)
+    n, tours = int(rng.integers(3, 8)), bool(seed % 2)
+    points = rng.uniform(0, 100, (n + 1, 2))
+    D = np.linalg.norm(points[:, None] - points[None], axis=-1)
+    back = D[:, 0].copy() if tours else np.zeros(n + 1)
+    prize = np.concatenate(([0.0], rng.uniform(0, 0.5, n)))
+    budget, threshold = float(rng.uniform(60, 250)), float(rng.uniform(0.2, 1.2))
+    allowed = ~np.eye(n + 1, dtype=bool)
+    can_end = np.ones(n + 1, dtype=bool)
+    restricted = seed % 3 == 0
+    if restricted:  # as branching leaves them: a forbidden arc, a KPOI that cannot end
+        allowed[rng.integers(0, n + 1), rng.integers(1, n + 1)] = False
+        can_end[rng.integers(1, n + 1)] = False
+    family = _brute_force_family(D, back, prize, budget, threshold, allowed, can_end)
+    maximal = {s for s in family if not any(s < t for t in family)}
+    listed = routes_within_gap(D, back, prize, budget, threshold, allowed, can_end, max_states=10**6)
+    sets = [frozenset(r.tolist()) for r in listed]
+    assert len(sets) == len(set(sets))
+    assert set(sets) >= maximal
+    if not restricted:  # without restrictions the one-KPOI test finds every smaller set
+        assert set(sets) == maximal
+    for route, s in zip(listed, sets):
+        assert _length(D, back, tuple(route.tolist())) == pytest.approx(family[s], abs=1e-9)
+
+
+def test_gives_up_past_its_state_limit():
+    rng = np.random.default_rng(0)
+    points = rng.uniform(0, 100, (13, 2))
+    D = np.linalg.norm(points[:, None] - points[None], axis=-1)
+    prize = np.concatenate(([0.0], np.full(12, 0.1)))
+    allowed, can_end = ~np.eye(13, dtype=bool), np.ones(13, dtype=bool)
+    args = (D, D[:, 0].copy(), prize, 400.0, 0.3, allowed, can_end)
+    assert routes_within_gap(*args, max_states=50) is None
+    assert routes_within_gap(*args, max_states=10**7)
+
+
+def _euclidean(n: int, seed: int) -> np.ndarray:
+    points = np.random.default_rng(seed).uniform(0, 100, (n + 1, 2))
+    return np.linalg.norm(points[:, None] - points[None], axis=-1)
+
+
+@pytest.mark.parametrize("tours", [False, True])
+def test_nodes_answered_by_enumeration_agree_with_setpart(tours, monkeypatch):
+    """Both questions, k = 3-4 (enumeration's range), on instances where it answers
+    nodes: the same optima as set partitioning."""
+    answered = []
+    enumerate_node = branchprice._Search._enumerate
+
+    def recording(search, *args):
+        outcome, settled = enumerate_node(search, *args)
+        answered.append(settled is not None)
+        return outcome, settled
+
+    monkeypatch.setattr(branchprice._Search, "_enumerate", recording)
+    for seed in range(4):
+        D = _euclidean(11, 100 + seed)
+        for k in (3, 4):
+            ours = branchprice.min_makespan(D, k, tours=tours, time_limit=60)
+            theirs = setpart.min_makespan(D, k, tours=tours)
+            assert ours.status == theirs.status == "optimal"
+            assert ours.objective == pytest.approx(theirs.objective, rel=1e-9)
+            # more than k routes, every KPOI reachable
+            deadline = max(0.98 * ours.objective, 1.0001 * least_makespan(D, tours=tours))
+            fewest = branchprice.min_robots(D, deadline, tours=tours, time_limit=60)
+            assert fewest.status == "optimal"
+            assert fewest.objective == setpart.min_robots(D, deadline, tours=tours).objective
+    assert any(answered)
