@@ -60,6 +60,7 @@ def routes_within_gap(
     can_end: np.ndarray,
     *,
     max_states: int,
+    max_sets: int | None = None,
     stop_at: float = math.inf,
 ) -> list[np.ndarray] | None:
     """One shortest route for every maximal KPOI set whose prize reaches ``threshold``
@@ -78,6 +79,9 @@ def routes_within_gap(
         Arcs the routes may use (row 0: first arcs) and KPOIs they may end at.
     max_states : int
         Give up (return None) when more partial routes than this would be kept.
+    max_sets : int, optional
+        ... or when more than this many (set, last KPOI) states reach the threshold (the
+        maximal-set filter and the MIP grow with them).
     stop_at : float
         A ``time.perf_counter()`` value; None is returned once it passes (read between levels).
 
@@ -100,7 +104,7 @@ def routes_within_gap(
     last, length, gained = np.zeros(1, np.int64), np.zeros(1), np.zeros(1)
     levels: list[tuple[np.ndarray, np.ndarray]] = []  # (parent, last) of every kept state
     found: list[tuple[int, np.ndarray, np.ndarray, np.ndarray]] = []  # level, states, sets, lengths
-    total = 0
+    total = reached = 0
     while len(last):
         parent, last, length, gained = _extend(sets, last, length, gained, D, back, prize, allowed,
                                                budget, threshold, table, delta, G)
@@ -112,10 +116,15 @@ def routes_within_gap(
             return None
         levels.append((parent, last))
         ends = np.flatnonzero((gained >= threshold) & can_end[last])
+        reached += len(ends)
+        if max_sets is not None and reached > max_sets:
+            return None
         if len(ends):
             found.append((len(levels) - 1, ends, sets[ends], length[ends] + back[last[ends]]))
     if not found:
         return []
+    if time.perf_counter() >= stop_at:
+        return None
     family = np.concatenate([f[2] for f in found])
     lengths = np.concatenate([f[3] for f in found])
     where = np.concatenate([np.stack([np.full(len(f[1]), f[0]), f[1]], axis=1) for f in found])

@@ -70,6 +70,7 @@ def test_gives_up_past_its_state_limit():
     allowed, can_end = ~np.eye(13, dtype=bool), np.ones(13, dtype=bool)
     args = (D, D[:, 0].copy(), prize, 400.0, 0.3, allowed, can_end)
     assert routes_within_gap(*args, max_states=50) is None
+    assert routes_within_gap(*args, max_states=10**7, max_sets=5) is None
     assert routes_within_gap(*args, max_states=10**7)
 
 
@@ -85,8 +86,8 @@ def test_nodes_answered_by_enumeration_agree_with_setpart(tours, monkeypatch):
     answered = []
     enumerate_node = branchprice._Search._enumerate
 
-    def recording(search, *args):
-        outcome, settled = enumerate_node(search, *args)
+    def recording(search, *args, **kwargs):
+        outcome, settled = enumerate_node(search, *args, **kwargs)
         answered.append(settled is not None)
         return outcome, settled
 
