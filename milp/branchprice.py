@@ -707,7 +707,7 @@ class _Search:
         MIP here proves nothing (a smaller set of a better solution may have been dropped)."""
         lengths = np.array([route_cost(self.pricing.D, list(o), tours=self.tours) for o in orders])
         while not self.out_of_time():
-            value = max(route_cost(self.pricing.D, r, tours=self.tours) for r in routes)
+            value = makespan(self.pricing.D, routes, tours=self.tours)
             shorter = [o for o, length in zip(orders, lengths) if length < value * (1 - STRICT)]
             solve, better = covering_solve(shorter, self.m, self.left())
             if solve.status != "optimal" or better is None or len(better) > target:
