@@ -71,7 +71,10 @@ branching: only routes of reduced cost at most the gap can be in a solution of a
 ``k`` routes, so :mod:`milp.enumeration` lists their KPOI sets (when there are not too
 many) and a set-covering MIP over them (HiGHS) finds the node's fewest routes (Baldacci,
 Christofides and Mingozzi 2008; Baldacci, Mingozzi and Roberti 2011). Tried from the
-root down, for targets in :data:`ENUMERATION_ROUTES`.
+root down, for targets in :data:`ENUMERATION_ROUTES`. In a makespan decision the listed
+sets also hold every route of any better solution, so covering MIPs over the sets within
+shorter and shorter lengths find the node's least makespan; at the root that ends the
+search (below).
 
 Primal side: the incumbent comes from the caller (``warm_start``, e.g. parcover's
 ``best``), from integral master solutions, and from the master solved as an integer
@@ -83,7 +86,8 @@ The optimum is the least :math:`U` whose fewest routes is at most :math:`k`. Sta
 from the incumbent's makespan :math:`Z`, the search decides :math:`U = Z (1 - 10^{-9})`:
 a solution with at most :math:`k` routes within it improves :math:`Z` (and the search
 repeats); a proof that none exists proves :math:`Z` optimal (to the 1e-9 relative
-tolerance of every exact method here). A lower bound for an unproven answer comes from
+tolerance of every exact method here), and so does a root answered by enumeration
+(its least makespan is the optimum). A lower bound for an unproven answer comes from
 bisection on the root LP bound (:math:`\lceil z(U) \rceil > k` proves :math:`U` too
 small), computed first with a share of the time limit.
 """
@@ -153,10 +157,9 @@ INTEGRAL = 1e-6
 #: Route enumeration (:mod:`milp.enumeration`) at a node whose LP leaves a gap below
 #: this many routes ...
 ENUMERATION_GAP = 1.0
-#: ... for targets in this range of routes: with 2 the covering MIP struggles to find two
-#: complementary sets (n = 20, k = 2 paths, tests/milp/test_counting.py: 95 s with
-#: enumeration, most of it in ten MIPs of 2-20 s, each improving the makespan a little,
-#: against 1.9 s without); with 6 or more (fewest robots at n = 50, where the subset-row
+#: ... for targets in this range of routes: with 2 the covering MIPs over long routes are
+#: slow (n = 20, k = 2 paths, tests/milp/test_counting.py: 34.9 s with enumeration,
+#: against 2.5 s without); with 6 or more (fewest robots at n = 50, where the subset-row
 #: cuts work) it lost 4 of 36 questions proven within 10 s and won 3.
 ENUMERATION_ROUTES = (3, CUT_MIN_ROUTES - 1)
 #: It gives up past this many partial routes, or this many (set, last KPOI) states at the
@@ -188,19 +191,20 @@ class _Pool:
     def __len__(self) -> int:
         return len(self.orders)
 
-    def add(self, routes: list[np.ndarray]) -> range:
-        """Add the routes not in the pool yet; the indices of the new columns."""
-        before, lengths = len(self.orders), []
-        for route in routes:
+    def add(self, routes: list[np.ndarray], lengths: np.ndarray | None = None) -> range:
+        """Add the routes (their ``lengths`` when known) not in the pool yet; the indices
+        of the new columns."""
+        before, added = len(self.orders), []
+        for r, route in enumerate(routes):
             key = route.astype(np.int16).tobytes()
             if key in self.seen:
                 continue
             self.seen.add(key)
             self.orders.append(route)
             self.arcs.append(np.concatenate(([0], route)) * (self.m + 1) + np.concatenate((route, [0])))
-            lengths.append(route_cost(self.D, route.tolist(), tours=self.tours))
-        if lengths:
-            self.lengths = np.concatenate((self.lengths, lengths))
+            added.append(route_cost(self.D, route.tolist(), tours=self.tours) if lengths is None else lengths[r])
+        if added:
+            self.lengths = np.concatenate((self.lengths, added))
             self._incidence = None
         return range(before, len(self.orders))
 
@@ -279,9 +283,12 @@ class _LpOutcome:
 @dataclass
 class _Settled:
     """A node answered by route enumeration: its fewest routes when at most the target,
-    else None (the node holds no such solution)."""
+    else None (the node holds no such solution). ``least``: the routes have the least
+    makespan of any solution of at most the target routes at the node (answered by
+    :meth:`_Search._least_makespan_covering`)."""
 
     routes: list[list[int]] | None
+    least: bool = False
 
 
 def _rounded_up(bound: float) -> float:
@@ -305,6 +312,7 @@ class _Search:
         self.cut_bits = np.zeros(self.m + 1, dtype=np.uint64)  # bit t: in cut t's triple
         self.cut_memory = np.zeros(self.m + 1, dtype=np.uint64)  # bit t: in cut t's memory
         self.enumeration_gap = ENUMERATION_GAP  # enumerate at nodes with a smaller LP gap
+        self.makespan_bound = 0.0  # a lower bound on the least makespan (for min_makespan)
 
     def out_of_time(self) -> bool:
         return self.stop_at is not None and time.perf_counter() >= self.stop_at
@@ -607,7 +615,9 @@ class _Search:
             better), the root's certified bound rounded up, and ``"exhausted"`` (the tree
             is closed: no solution with at most ``target`` routes remains, ``target``
             being one below the returned routes' count when any were found), ``"found"``
-            (``first``) or ``"unknown"`` (time limit, or a node it could not branch on).
+            (``first``), ``"least"`` (``first``, and enumeration at the root proved that
+            no solution of at most ``target`` routes has a shorter longest route) or
+            ``"unknown"`` (time limit, or a node it could not branch on).
         """
         best = incumbent
         stack = [_Node.root(self.m)]
@@ -618,6 +628,7 @@ class _Search:
             if self.out_of_time():
                 return best, root_bound, "unknown"
             node = stack.pop()
+            at_root = root_bound is None
             outcome = self.solve_node(node, budget, target)
             rounded = _rounded_up(outcome.bound)
             settled = None
@@ -625,8 +636,10 @@ class _Search:
                 outcome, settled = self._enumerate(node, outcome, budget, target, shortest=first)
                 rounded = _rounded_up(outcome.bound)
             candidates = [] if settled is None else [settled.routes]
-            if root_bound is None:
+            if at_root:
                 root_bound = max(1, rounded) if math.isfinite(rounded) else None
+                if first and settled is not None and settled.least:
+                    return settled.routes, root_bound, "least"
                 if rounded <= target:
                     candidates.append(self.integer_master(budget, self._root_ip_time()))
                 if rounded <= target and improve is not None:
@@ -663,8 +676,8 @@ class _Search:
         ``target - z``); the sets whose route can be in a solution of at most ``target``
         routes are listed and a set-covering MIP over them finds the node's fewest routes.
         Returns the (re-solved) outcome and, when the node is answered, its best routes
-        (None: none with at most ``target``; with ``shortest``, of those found the ones with
-        the shortest longest route, :meth:`_shortest_covering`). Gives up (None) when the listing grows past
+        (None: none with at most ``target``; with ``shortest``, those with the least
+        makespan, :meth:`_least_makespan_covering`). Gives up (None) when the listing grows past
         :data:`ENUMERATION_STATES` (the gap it gave up at then bars nodes with gaps not below
         :data:`ENUMERATION_RETRY` x it) or the MIP is not solved in the time left."""
         low, high = ENUMERATION_ROUTES
@@ -679,41 +692,60 @@ class _Search:
         gap = target - float(y[:self.m].sum() - y[self.m:].sum())
         if gap >= self.enumeration_gap:
             return outcome, None
-        orders = enumeration.routes_within_gap(
+        family = enumeration.routes_within_gap(
             self.pricing.D, self.pricing.back, np.concatenate(([0.0], y[:self.m])), budget,
             1.0 - gap - ENUMERATION_SLACK, node.allowed, node.allowed[:, 0],
             max_states=ENUMERATION_STATES, max_sets=ENUMERATION_SETS, stop_at=math.inf if self.stop_at is None else self.stop_at)
-        if orders is None:
+        if family is None:
             self.enumeration_gap = ENUMERATION_RETRY * gap
             return outcome, None
-        self.pool.add(orders)
+        orders, lengths = family.maximal()
+        self.pool.add(orders, lengths)
+        decided, routes = self._covering(orders, target)
+        if not decided:
+            return outcome, None
+        if routes is None or not shortest:
+            return outcome, _Settled(routes)
+        routes, least = self._least_makespan_covering(family, routes, target)
+        return outcome, _Settled(routes, least)
+
+    def _covering(self, orders: list[np.ndarray], target: int) -> tuple[bool, list[list[int]] | None]:
+        """Set-covering MIP over ``orders``: ``(True, routes)`` with the fewest covering
+        routes when at most ``target``, ``(True, None)`` when proven that none are,
+        ``(False, None)`` when HiGHS settled neither in the time left."""
         solve, routes = covering_solve(orders, self.m, self.left())
         if solve.status == "infeasible" or (solve.bound is not None and solve.bound > target + ROUND):
-            return outcome, _Settled(None)
+            return True, None
         if solve.status != "optimal" or solve.objective is None or routes is None:
-            return outcome, None
-        if solve.objective > target + ROUND:
-            return outcome, _Settled(None)
-        return outcome, _Settled(self._shortest_covering(orders, routes, target) if shortest else routes)
+            return False, None
+        return True, (routes if solve.objective <= target + ROUND else None)
 
-    def _shortest_covering(self, orders: list[np.ndarray], routes: list[list[int]], target: int,
-                           ) -> list[list[int]]:
-        """From a covering of at most ``target`` of ``orders``, coverings of at most
-        ``target`` with ever shorter longest routes while the time lasts (the MIP again
-        over the orders shorter than the last makespan): so that one enumeration moves the
-        least-makespan search further than one step (measured: n = 40 k = 5 paths, seed 1
-        of the benchmark grid, unproven at 60 s without, ten decisions each found a covering
-        a little shorter). A heuristic: the orders are the maximal sets only, so a failed
-        MIP here proves nothing (a smaller set of a better solution may have been dropped)."""
-        lengths = np.array([route_cost(self.pricing.D, list(o), tours=self.tours) for o in orders])
-        while not self.out_of_time():
-            value = makespan(self.pricing.D, routes, tours=self.tours)
-            shorter = [o for o, length in zip(orders, lengths) if length < value * (1 - STRICT)]
-            solve, better = covering_solve(shorter, self.m, self.left())
-            if solve.status != "optimal" or better is None or len(better) > target:
-                break
-            routes = better
-        return routes
+    def _least_makespan_covering(self, family: enumeration.Family, routes: list[list[int]],
+                                 target: int) -> tuple[list[list[int]], bool]:
+        """From a covering of at most ``target`` sets of ``family``, one with the least
+        makespan: bisection over the family's route lengths ``T``, each step the covering
+        MIP over the sets maximal within ``T`` (:meth:`enumeration.Family.maximal`). Every
+        route of a solution of at most ``target`` routes at the node has its KPOI set in
+        the family, no longer, so a step finding no covering proves that none has a
+        makespan within ``T``. One listing thus ends a least-makespan search (measured: n =
+        40 k = 5 paths, seed 1 of the benchmark grid, took ten decisions each finding a
+        covering a little shorter). Returns the routes and whether they are proven least
+        (False: the time ran out or a MIP was not settled)."""
+        lengths = np.unique(family.lengths)
+        value = makespan(self.pricing.D, routes, tours=self.tours)
+        low = int(np.searchsorted(lengths, self.makespan_bound))  # lengths[:low] are too short
+        while (high := int(np.searchsorted(lengths, value * (1 - STRICT)))) > low:
+            if self.out_of_time():
+                return routes, False
+            middle = (low + high) // 2
+            decided, better = self._covering(family.maximal(lengths[middle])[0], target)
+            if not decided:
+                return routes, False
+            if better is None:
+                low = middle + 1
+            else:
+                routes, value = better, makespan(self.pricing.D, better, tours=self.tours)
+        return routes, True
 
     def _root_ip_time(self) -> float:
         left = self.left()
@@ -936,7 +968,7 @@ def min_makespan(
                        "warm start meets the lower bound")
     if time_limit is not None:
         search.stop_at = began + BISECTION_SHARE * time_limit
-    lower = _bisect_lp_bound(search, k, lower, value)
+    lower = search.makespan_bound = _bisect_lp_bound(search, k, lower, value)
     search.stop_at = stop_at
     while not search.out_of_time():
         if value <= lower * (1 + 1e-9):
@@ -944,6 +976,9 @@ def min_makespan(
                            "lower bound reached")
         budget = value * (1 - STRICT)
         found, _, outcome = search.fewest_routes(budget, None, k, first=True)
+        if outcome == "least":
+            return _result("optimal", merged, D, found, makespan(merged.D, found, tours=tours), lower,
+                           search.nodes, began, "least makespan over the routes enumerated at the root")
         if outcome == "found":
             routes, value = found, makespan(merged.D, found, tours=tours)
             continue

@@ -32,22 +32,53 @@ A set contained in another of the family is not needed for covering (the larger 
 covers it, and a covering shortcuts to a partition with no longer routes): only the
 maximal sets go to the MIP. If ``S`` is in the family and ``S'`` strictly contains it,
 so is ``S + {v}`` for ``v`` in ``S' - S`` (its prize is between theirs, and shortcutting
-the route of ``S'`` gives one of ``S + {v}``), so testing the one-KPOI extensions finds
-every non-maximal set (at the root; under branching's arc restrictions some may stay,
-which only costs the MIP a column).
+the route of ``S'`` gives one of ``S + {v}`` no longer than that of ``S'``), so testing
+the one-KPOI extensions finds every non-maximal set (at the root; under branching's arc
+restrictions some may stay, which only costs the MIP a column). The same holds within
+any length ``T``: of the sets whose route is within ``T``, the maximal ones are those
+with no one-KPOI extension within ``T`` (:meth:`Family.maximal`), so the least makespan
+of a solution from the family is found by covering MIPs over shorter and shorter
+subfamilies, each failure a proof.
 """
 
 from __future__ import annotations
 
 import math
 import time
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 
 from milp.ngroute import _completion_table, _grid_step, _grow
 
-__all__ = ["routes_within_gap"]
+__all__ = ["Family", "routes_within_gap"]
+
+
+@dataclass(frozen=True)
+class Family:
+    """The KPOI sets a listing found, each with its shortest route.
+
+    ``lengths[s]``: the length of set ``s``'s route; ``extended[s]``: the shortest route
+    of a set of the family with one KPOI more (inf when there is none), so that ``s`` is
+    maximal among the sets within a length ``T`` when ``lengths[s] <= T`` and no
+    extension is (``extended[s] > T``, or none at all).
+    """
+
+    lengths: np.ndarray
+    extended: np.ndarray
+    levels: list[tuple[np.ndarray, np.ndarray]]  # (parent, last) of every kept state
+    where: np.ndarray  # (level, state) of each set's route
+
+    def __len__(self) -> int:
+        return len(self.lengths)
+
+    def maximal(self, within: float = math.inf) -> tuple[list[np.ndarray], np.ndarray]:
+        """The routes of the sets maximal among those whose route is within ``within``
+        (KPOI sequences), and their lengths."""
+        extended = np.isfinite(self.extended) & (self.extended <= within)
+        keep = np.flatnonzero((self.lengths <= within) & ~extended)
+        return [_trace(self.levels, int(level), int(index)) for level, index in self.where[keep]], self.lengths[keep]
 
 
 def routes_within_gap(
@@ -62,9 +93,9 @@ def routes_within_gap(
     max_states: int,
     max_sets: int | None = None,
     stop_at: float = math.inf,
-) -> list[np.ndarray] | None:
-    """One shortest route for every maximal KPOI set whose prize reaches ``threshold``
-    and which has a route within ``budget`` (module docstring).
+) -> Family | None:
+    """Every KPOI set whose prize reaches ``threshold`` and which has a route within
+    ``budget``, with its shortest route (module docstring).
 
     Parameters
     ----------
@@ -87,8 +118,8 @@ def routes_within_gap(
 
     Returns
     -------
-    list of numpy.ndarray or None
-        KPOI sequences, or None when the listing gave up.
+    Family or None
+        The sets, or None when the listing gave up.
     """
     m1 = len(D)
     words = (m1 + 63) // 64
@@ -122,19 +153,18 @@ def routes_within_gap(
         if len(ends):
             found.append((len(levels) - 1, ends, sets[ends], length[ends] + back[last[ends]]))
     if not found:
-        return []
+        return Family(np.zeros(0), np.zeros(0), levels, np.zeros((0, 2), np.int64))
     if time.perf_counter() >= stop_at:
         return None
     family = np.concatenate([f[2] for f in found])
     lengths = np.concatenate([f[3] for f in found])
     where = np.concatenate([np.stack([np.full(len(f[1]), f[0]), f[1]], axis=1) for f in found])
     order = np.lexsort((lengths, *(family[:, w] for w in range(words))))
-    family, where = family[order], where[order]
+    family, lengths, where = family[order], lengths[order], where[order]
     first = np.ones(len(order), dtype=bool)
     first[1:] = np.any(family[1:] != family[:-1], axis=1)
-    family, where = family[first], where[first]
-    keep = _maximal(family, m1)
-    return [_trace(levels, int(level), int(index)) for level, index in where[keep]]
+    family, lengths = family[first], lengths[first]
+    return Family(lengths, _shortest_extension(family, lengths, m1), levels, where[first])
 
 
 def _trace(levels: list[tuple[np.ndarray, np.ndarray]], level: int, index: int) -> np.ndarray:
@@ -153,18 +183,24 @@ def _rows(a: np.ndarray) -> np.ndarray:
     return a.view(np.dtype((np.void, a.dtype.itemsize * a.shape[1]))).ravel()
 
 
-def _maximal(family: np.ndarray, m1: int) -> np.ndarray:
-    """Which sets of ``family`` (distinct bit rows) have no one-KPOI extension in it."""
+def _shortest_extension(family: np.ndarray, lengths: np.ndarray, m1: int) -> np.ndarray:
+    """For each set of ``family`` (distinct bit rows), the least length of its one-KPOI
+    extensions in the family (inf when none is)."""
     known = _rows(family)
-    keep = np.ones(len(family), dtype=bool)
+    order = np.argsort(known)
+    known = known[order]
+    extended = np.full(len(family), np.inf)
     for v in range(1, m1):
         w, bit = divmod(v, 64)
         flag = np.uint64(1) << np.uint64(bit)
         lacking = np.flatnonzero((family[:, w] & flag) == 0)
         grown = family[lacking].copy()
         grown[:, w] |= flag
-        keep[lacking[np.isin(_rows(grown), known)]] = False
-    return keep
+        grown = _rows(grown)
+        at = np.minimum(np.searchsorted(known, grown), len(known) - 1)
+        hit = known[at] == grown
+        extended[lacking[hit]] = np.minimum(extended[lacking[hit]], lengths[order[at[hit]]])
+    return extended
 
 
 def _shortest_per_end(sets, last, length, gained, parent):

@@ -36,7 +36,7 @@ def _brute_force_family(D, back, prize, budget, threshold, allowed, can_end) -> 
 
 
 @pytest.mark.parametrize("seed", range(24))
-def test_lists_every_maximal_set_with_its_shortest_route(seed):
+def test_lists_every_set_and_the_maximal_ones_within_any_length(seed):
     rng = np.random.default_rng(seed)
     n, tours = int(rng.integers(3, 8)), bool(seed % 2)
     points = rng.uniform(0, 100, (n + 1, 2))
@@ -51,15 +51,23 @@ def test_lists_every_maximal_set_with_its_shortest_route(seed):
         allowed[rng.integers(0, n + 1), rng.integers(1, n + 1)] = False
         can_end[rng.integers(1, n + 1)] = False
     family = _brute_force_family(D, back, prize, budget, threshold, allowed, can_end)
-    maximal = {s for s in family if not any(s < t for t in family)}
-    listed = routes_within_gap(D, back, prize, budget, threshold, allowed, can_end, max_states=10**6)
-    sets = [frozenset(r.tolist()) for r in listed]
-    assert len(sets) == len(set(sets))
-    assert set(sets) >= maximal
-    if not restricted:  # without restrictions the one-KPOI test finds every smaller set
-        assert set(sets) == maximal
-    for route, s in zip(listed, sets):
-        assert _length(D, back, tuple(route.tolist())) == pytest.approx(family[s], abs=1e-9)
+    listing = routes_within_gap(D, back, prize, budget, threshold, allowed, can_end, max_states=10**6)
+    assert len(listing) == len(family)
+    # every length of the family, and one between two of them, as the limit
+    limits = sorted({np.inf, *family.values(), *(0.5 * (a + b) for a, b in zip(sorted(family.values()), [0.0, *sorted(family.values())]))})
+    for within in limits:
+        inside = {s for s, length in family.items() if length <= within}
+        maximal = {s for s in inside if not any(s < t for t in inside)}
+        listed, lengths = listing.maximal(within)
+        sets = [frozenset(r.tolist()) for r in listed]
+        assert len(sets) == len(set(sets))
+        assert set(sets) >= maximal
+        assert set(sets) <= inside
+        if not restricted:  # without restrictions the one-KPOI test finds every smaller set
+            assert set(sets) == maximal
+        for route, s, length in zip(listed, sets, lengths):
+            assert _length(D, back, tuple(route.tolist())) == pytest.approx(family[s], abs=1e-9)
+            assert length == pytest.approx(family[s], abs=1e-9)
 
 
 def test_gives_up_past_its_state_limit():
@@ -71,7 +79,7 @@ def test_gives_up_past_its_state_limit():
     args = (D, D[:, 0].copy(), prize, 400.0, 0.3, allowed, can_end)
     assert routes_within_gap(*args, max_states=50) is None
     assert routes_within_gap(*args, max_states=10**7, max_sets=5) is None
-    assert routes_within_gap(*args, max_states=10**7)
+    assert len(routes_within_gap(*args, max_states=10**7))
 
 
 def _euclidean(n: int, seed: int) -> np.ndarray:
@@ -82,8 +90,8 @@ def _euclidean(n: int, seed: int) -> np.ndarray:
 @pytest.mark.parametrize("tours", [False, True])
 def test_nodes_answered_by_enumeration_agree_with_setpart(tours, monkeypatch):
     """Both questions, k = 3-4 (enumeration's range), on instances where it answers
-    nodes: the same optima as set partitioning."""
-    answered = []
+    nodes (and proves least makespans at the root): the same optima as set partitioning."""
+    answered, least = [], []
     enumerate_node = branchprice._Search._enumerate
 
     def recording(search, *args, **kwargs):
@@ -99,9 +107,10 @@ def test_nodes_answered_by_enumeration_agree_with_setpart(tours, monkeypatch):
             theirs = setpart.min_makespan(D, k, tours=tours)
             assert ours.status == theirs.status == "optimal"
             assert ours.objective == pytest.approx(theirs.objective, rel=1e-9)
+            least.append(ours.message.startswith("least makespan over the routes enumerated"))
             # more than k routes, every KPOI reachable
             deadline = max(0.98 * ours.objective, 1.0001 * least_makespan(D, tours=tours))
             fewest = branchprice.min_robots(D, deadline, tours=tours, time_limit=60)
             assert fewest.status == "optimal"
             assert fewest.objective == setpart.min_robots(D, deadline, tours=tours).objective
-    assert any(answered)
+    assert any(answered) and any(least)
