@@ -71,7 +71,9 @@ branching: only routes of reduced cost at most the gap can be in a solution of a
 ``k`` routes, so :mod:`milp.enumeration` lists their KPOI sets (when there are not too
 many) and a set-covering MIP over them (HiGHS) finds the node's fewest routes (Baldacci,
 Christofides and Mingozzi 2008; Baldacci, Mingozzi and Roberti 2011). Tried from the
-root down, for targets in :data:`ENUMERATION_ROUTES`. In a makespan decision the listed
+root down, for targets in :data:`ENUMERATION_ROUTES`, after the root's primal side (a
+decision that the integer master answers needs no listing; the listing, largest while the
+budget is far above the optimum, is kept for the decisions that need a proof). In a makespan decision the listed
 sets also hold every route of any better solution, so covering MIPs over the sets within
 shorter and shorter lengths find the node's least makespan; at the root that ends the
 search (below).
@@ -631,15 +633,9 @@ class _Search:
             at_root = root_bound is None
             outcome = self.solve_node(node, budget, target)
             rounded = _rounded_up(outcome.bound)
-            settled = None
-            if outcome.why == "solved" and rounded <= target and self.integral_routes(outcome) is None:
-                outcome, settled = self._enumerate(node, outcome, budget, target, shortest=first)
-                rounded = _rounded_up(outcome.bound)
-            candidates = [] if settled is None else [settled.routes]
-            if at_root:
+            candidates = []
+            if at_root:  # the cheap primal side first: enumeration then proves against it
                 root_bound = max(1, rounded) if math.isfinite(rounded) else None
-                if first and settled is not None and settled.least:
-                    return settled.routes, root_bound, "least"
                 if rounded <= target:
                     candidates.append(self.integer_master(budget, self._root_ip_time()))
                 if rounded <= target and improve is not None:
@@ -649,6 +645,18 @@ class _Search:
             for routes in candidates:
                 if routes is not None and len(routes) <= target:
                     best, target = routes, len(routes) - 1
+                    if first:
+                        return best, root_bound, "found"
+            settled = None
+            if outcome.why == "solved" and rounded <= target and self.integral_routes(outcome) is None:
+                outcome, settled = self._enumerate(node, outcome, budget, target, shortest=first)
+                rounded = _rounded_up(outcome.bound)
+                if at_root and root_bound is not None and math.isfinite(rounded):
+                    root_bound = max(root_bound, rounded)
+                if settled is not None and settled.routes is not None:
+                    if first and at_root and settled.least:
+                        return settled.routes, root_bound, "least"
+                    best, target = settled.routes, len(settled.routes) - 1
                     if first:
                         return best, root_bound, "found"
             if outcome.why == "time limit":
