@@ -72,11 +72,11 @@ branching: only routes of reduced cost at most the gap can be in a solution of a
 many) and a set-covering MIP over them (HiGHS) finds the node's fewest routes (Baldacci,
 Christofides and Mingozzi 2008; Baldacci, Mingozzi and Roberti 2011). Tried from the
 root down, for targets in :data:`ENUMERATION_ROUTES`, after the root's primal side (a
-decision that the integer master answers needs no listing; the listing, largest while the
-budget is far above the optimum, is kept for the decisions that need a proof). In a makespan decision the listed
-sets also hold every route of any better solution, so covering MIPs over the sets within
-shorter and shorter lengths find the node's least makespan; at the root that ends the
-search (below).
+decision that the integer master answers needs no listing; the listing, largest while
+the budget is far above the optimum, is kept for the decisions that need a proof). In a
+makespan decision the listed sets also hold every route of any better solution, so
+covering MIPs over the sets within shorter and shorter lengths find the node's least
+makespan; at the root that ends the search (below).
 
 Primal side: the incumbent comes from the caller (``warm_start``, e.g. parcover's
 ``best``), from integral master solutions, and from the master solved as an integer
