@@ -172,6 +172,10 @@ ENUMERATION_STATES, ENUMERATION_SETS = 2_000_000, 250_000
 ENUMERATION_RETRY = 0.5
 #: Prize slack of the enumeration threshold (round-off in sums of duals).
 ENUMERATION_SLACK = 1e-9
+#: Below the root, the integer master over the pool runs again whenever the pool has grown
+#: this many times since it last ran (enumerated families add many routes within the
+#: budget; a covering of them is a solution the tree may reach only much later).
+POOL_GROWTH = 2.0
 
 
 class _Pool:
@@ -609,6 +613,8 @@ class _Search:
         ``incumbent`` when it is given: ``target`` moves down with every better solution).
         With ``first``, returns at the first solution found. ``improve``, when the root
         does not prove the incumbent, is asked once for routes meeting the root's bound.
+        The integer master over the pool runs at the root and again below it whenever the
+        pool has grown :data:`POOL_GROWTH` times.
 
         Returns
         -------
@@ -625,12 +631,26 @@ class _Search:
         stack = [_Node.root(self.m)]
         root_bound: int | None = None
         unresolved = False
+        pool_tried = len(self.pool)  # its size when the integer master last ran
+
+        def accept(routes: list[list[int]] | None) -> bool:
+            """Keep ``routes`` when they beat the target; True when the search should stop."""
+            nonlocal best, target
+            if routes is None or len(routes) > target:
+                return False
+            best, target = routes, len(routes) - 1
+            return first
+
         self.enumeration_gap = ENUMERATION_GAP
         while stack:
             if self.out_of_time():
                 return best, root_bound, "unknown"
             node = stack.pop()
             at_root = root_bound is None
+            if not at_root and len(self.pool) >= POOL_GROWTH * pool_tried:
+                pool_tried = len(self.pool)
+                if accept(self.integer_master(budget, self._root_ip_time())):
+                    return best, root_bound, "found"
             outcome = self.solve_node(node, budget, target)
             rounded = _rounded_up(outcome.bound)
             candidates = []
@@ -638,15 +658,13 @@ class _Search:
                 root_bound = max(1, rounded) if math.isfinite(rounded) else None
                 if rounded <= target:
                     candidates.append(self.integer_master(budget, self._root_ip_time()))
+                pool_tried = len(self.pool)
                 if rounded <= target and improve is not None:
                     candidates.append(improve(max(1, int(rounded))))
             if outcome.why == "solved" and rounded <= target:
                 candidates.append(self.integral_routes(outcome))
-            for routes in candidates:
-                if routes is not None and len(routes) <= target:
-                    best, target = routes, len(routes) - 1
-                    if first:
-                        return best, root_bound, "found"
+            if any(accept(routes) for routes in candidates):
+                return best, root_bound, "found"
             settled = None
             if outcome.why == "solved" and rounded <= target and self.integral_routes(outcome) is None:
                 outcome, settled = self._enumerate(node, outcome, budget, target, shortest=first)
@@ -656,8 +674,7 @@ class _Search:
                 if settled is not None and settled.routes is not None:
                     if first and at_root and settled.least:
                         return settled.routes, root_bound, "least"
-                    best, target = settled.routes, len(settled.routes) - 1
-                    if first:
+                    if accept(settled.routes):
                         return best, root_bound, "found"
             if outcome.why == "time limit":
                 return best, root_bound, "unknown"
@@ -735,10 +752,11 @@ class _Search:
         MIP over the sets maximal within ``T`` (:meth:`enumeration.Family.maximal`). Every
         route of a solution of at most ``target`` routes at the node has its KPOI set in
         the family, no longer, so a step finding no covering proves that none has a
-        makespan within ``T``. One listing thus ends a least-makespan search (measured: n =
-        40 k = 5 paths, seed 1 of the benchmark grid, took ten decisions each finding a
-        covering a little shorter). Returns the routes and whether they are proven least
-        (False: the time ran out or a MIP was not settled)."""
+        makespan within ``T``. One listing thus ends a least-makespan search, where
+        returning the first covering made the search take one decision per slightly
+        shorter covering (measured: ten on n = 40 k = 5 paths, seed 1 of the benchmark
+        grid). Returns the routes and whether they are proven least (False: the time ran
+        out or a MIP was not settled)."""
         lengths = np.unique(family.lengths)
         value = makespan(self.pricing.D, routes, tours=self.tours)
         low = int(np.searchsorted(lengths, self.makespan_bound))  # lengths[:low] are too short
