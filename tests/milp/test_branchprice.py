@@ -138,6 +138,39 @@ def test_strong_branching_reaches_setparts_optimum(monkeypatch):
     assert max(map(abs, restored)) < 1e-7
 
 
+def test_integer_master_below_the_root_keeps_the_optimum(monkeypatch):
+    """With POOL_GROWTH = 1 the integer master runs before every node below the root (at
+    most once per search at the root): its coverings, accepted as solutions, must leave
+    both questions at setpart's optimum, and it must have run below the root."""
+    searches, masters = [], []
+    fewest, master = branchprice._Search.fewest_routes, branchprice._Search.integer_master
+
+    def counting_searches(search, *args, **kwargs):
+        searches.append(1)
+        return fewest(search, *args, **kwargs)
+
+    def counting_masters(search, *args, **kwargs):
+        masters.append(1)
+        return master(search, *args, **kwargs)
+
+    monkeypatch.setattr(branchprice._Search, "fewest_routes", counting_searches)
+    monkeypatch.setattr(branchprice._Search, "integer_master", counting_masters)
+    monkeypatch.setattr(branchprice, "POOL_GROWTH", 1.0)
+    monkeypatch.setattr(branchprice, "ENUMERATION_ROUTES", (0, -1))  # the tree, not enumeration
+    D = euclidean(16, 1)  # branches (test_strong_branching_reaches_setparts_optimum)
+    for tours in (False, True):
+        ours = branchprice.min_makespan(D, 4, tours=tours, time_limit=60)
+        assert ours.status == "optimal"
+        ref = setpart.min_makespan(D, 4, tours=tours)
+        assert check_solution(D, ours, tours=tours, k=4) == pytest.approx(ref.objective, rel=TOL)
+        deadline = max(1.05 * least_makespan(D, tours=tours), 0.9 * ref.objective)
+        ours = branchprice.min_robots(D, deadline, tours=tours, time_limit=60)
+        assert ours.status == "optimal"
+        check_solution(D, ours, tours=tours, deadline=deadline)
+        assert ours.objective == setpart.min_robots(D, deadline, tours=tours).objective
+    assert len(masters) > len(searches)
+
+
 def clustered(n: int, seed: int) -> np.ndarray:
     """KPOIs in three tight clusters far apart (long inter-cluster arcs)."""
     rng = np.random.default_rng(seed)
