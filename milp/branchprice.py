@@ -631,7 +631,13 @@ class _Search:
         stack = [_Node.root(self.m)]
         root_bound: int | None = None
         unresolved = False
-        pool_tried = len(self.pool)  # its size when the integer master last ran
+        pool_tried = 0  # the pool's size when the integer master last ran
+
+        def pool_covering() -> list[list[int]] | None:
+            """The integer master over the pool now, its size noted."""
+            nonlocal pool_tried
+            pool_tried = len(self.pool)
+            return self.integer_master(budget, self._root_ip_time())
 
         def accept(routes: list[list[int]] | None) -> bool:
             """Keep ``routes`` when they beat the target; True when the search should stop."""
@@ -647,18 +653,15 @@ class _Search:
                 return best, root_bound, "unknown"
             node = stack.pop()
             at_root = root_bound is None
-            if not at_root and len(self.pool) >= POOL_GROWTH * pool_tried:
-                pool_tried = len(self.pool)
-                if accept(self.integer_master(budget, self._root_ip_time())):
-                    return best, root_bound, "found"
+            if not at_root and len(self.pool) >= POOL_GROWTH * pool_tried and accept(pool_covering()):
+                return best, root_bound, "found"
             outcome = self.solve_node(node, budget, target)
             rounded = _rounded_up(outcome.bound)
             candidates = []
             if at_root:  # the cheap primal side first: enumeration then proves against it
                 root_bound = max(1, rounded) if math.isfinite(rounded) else None
                 if rounded <= target:
-                    candidates.append(self.integer_master(budget, self._root_ip_time()))
-                pool_tried = len(self.pool)
+                    candidates.append(pool_covering())
                 if rounded <= target and improve is not None:
                     candidates.append(improve(max(1, int(rounded))))
             if outcome.why == "solved" and rounded <= target:

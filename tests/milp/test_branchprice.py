@@ -142,19 +142,16 @@ def test_integer_master_below_the_root_keeps_the_optimum(monkeypatch):
     """With POOL_GROWTH = 1 the integer master runs before every node below the root (at
     most once per search at the root): its coverings, accepted as solutions, must leave
     both questions at setpart's optimum, and it must have run below the root."""
-    searches, masters = [], []
-    fewest, master = branchprice._Search.fewest_routes, branchprice._Search.integer_master
+    calls: dict[str, list[int]] = {"fewest_routes": [], "integer_master": []}
+    for name, made in calls.items():
+        method = getattr(branchprice._Search, name)
 
-    def counting_searches(search, *args, **kwargs):
-        searches.append(1)
-        return fewest(search, *args, **kwargs)
+        def counting(search, *args, _method=method, _made=made, **kwargs):
+            _made.append(1)
+            return _method(search, *args, **kwargs)
 
-    def counting_masters(search, *args, **kwargs):
-        masters.append(1)
-        return master(search, *args, **kwargs)
-
-    monkeypatch.setattr(branchprice._Search, "fewest_routes", counting_searches)
-    monkeypatch.setattr(branchprice._Search, "integer_master", counting_masters)
+        monkeypatch.setattr(branchprice._Search, name, counting)
+    searches, masters = calls["fewest_routes"], calls["integer_master"]
     monkeypatch.setattr(branchprice, "POOL_GROWTH", 1.0)
     monkeypatch.setattr(branchprice, "ENUMERATION_ROUTES", (0, -1))  # the tree, not enumeration
     D = euclidean(16, 1)  # branches (test_strong_branching_reaches_setparts_optimum)
