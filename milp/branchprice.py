@@ -80,7 +80,8 @@ makespan; at the root that ends the search (below).
 
 Primal side: the incumbent comes from the caller (``warm_start``, e.g. parcover's
 ``best``), from integral master solutions, and from the master solved as an integer
-program over the pool (price-and-branch) at the root.
+program over the pool (price-and-branch) at the root, and again below it whenever the
+pool has grown :data:`POOL_GROWTH` times.
 
 Least makespan with k routes
 ----------------------------
@@ -140,8 +141,8 @@ SMOOTHING = 0.5
 STRICT = 1e-9
 #: Share of a makespan time limit for the LP bisection (the bound reported if unproven).
 BISECTION_SHARE = 0.25
-#: Share of the time limit (and a cap in seconds) for the root's integer master.
-ROOT_IP_SHARE, ROOT_IP_CAP = 0.1, 5.0
+#: Share of the time left (and a cap in seconds) for each run of the integer master.
+MASTER_IP_SHARE, MASTER_IP_CAP = 0.1, 5.0
 #: Subset-row cuts: at most this many in all (the pricing's parity bits), added per
 #: round, and the least violation that counts.
 MAX_CUTS, CUTS_PER_ROUND, CUT_VIOLATION = 64, 8, 0.05
@@ -295,6 +296,99 @@ class _Settled:
 
     routes: list[list[int]] | None
     least: bool = False
+
+
+class _Decision:
+    """The tree of one fewest-routes search (:meth:`_Search.fewest_routes`): depth first
+    from the root, the best routes found so far and the target they leave (one route
+    fewer), the root's bound."""
+
+    def __init__(self, search: _Search, budget: float, incumbent: list[list[int]] | None,
+                 target: int, *, first: bool, improve: Improve | None) -> None:
+        self.search, self.budget, self.first, self.improve = search, budget, first, improve
+        self.best, self.target = incumbent, target
+        self.root_bound: int | None = None  # set when the root is solved (None: still at it)
+        self.unresolved = False  # a node was left open (pricing stalled, nothing to branch on)
+        self.pool_tried = 0  # the pool's size when the integer master last ran
+
+    def run(self) -> str:
+        """Search the tree; the outcome of :meth:`_Search.fewest_routes`."""
+        stack = [_Node.root(self.search.m)]
+        while stack:
+            if self.search.out_of_time():
+                return "unknown"
+            ended, children = self._visit(stack.pop())
+            if ended is not None:
+                return ended
+            stack.extend(children)
+        return "unknown" if self.unresolved else "exhausted"
+
+    def _visit(self, node: _Node) -> tuple[str | None, list[_Node]]:
+        """Solve ``node``: an outcome that ends the search (``"found"``, ``"least"``,
+        ``"unknown"``), or None and the children to search (none when the node is closed
+        by its bound, answered by enumeration, or integral)."""
+        search, budget = self.search, self.budget
+        at_root = self.root_bound is None
+        if not at_root and len(search.pool) >= POOL_GROWTH * self.pool_tried and self._accept(self._pool_covering()):
+            return "found", []
+        outcome = search.solve_node(node, budget, self.target)
+        rounded = _rounded_up(outcome.bound)
+        if at_root:
+            self.root_bound = max(1, rounded) if math.isfinite(rounded) else None
+        if any(self._accept(routes) for routes in self._candidates(outcome, rounded, at_root)):
+            return "found", []
+        settled = None
+        if outcome.why == "solved" and rounded <= self.target and search.integral_routes(outcome) is None:
+            outcome, settled = search.enumerate_node(node, outcome, budget, self.target, shortest=self.first)
+            rounded = _rounded_up(outcome.bound)
+            if at_root and self.root_bound is not None and math.isfinite(rounded):
+                self.root_bound = max(self.root_bound, rounded)
+            if settled is not None and settled.routes is not None:
+                if self.first and at_root and settled.least:
+                    self.best = settled.routes
+                    return "least", []
+                if self._accept(settled.routes):
+                    return "found", []
+        if outcome.why == "time limit":
+            return "unknown", []
+        if rounded > self.target or settled is not None:
+            return None, []  # closed by its bound, or answered by enumeration
+        if outcome.why != "solved":
+            self.unresolved = True
+            return None, []
+        if search.integral_routes(outcome) is not None:
+            return None, []  # an integral LP optimum: nothing better below this node
+        arc = search.branching_arc(node, outcome, self.target)
+        if arc is None:
+            self.unresolved = True
+            return None, []
+        one, zero = node.children(arc, tours=search.tours)
+        return None, [zero, one]  # imposing first
+
+    def _candidates(self, outcome: _LpOutcome, rounded: float, at_root: bool) -> list[list[list[int]] | None]:
+        """Routes that may beat the target: at the root the integer master over the pool
+        and ``improve`` (the cheap primal side first: enumeration then proves against
+        them), at any node the master's solution when integral."""
+        candidates = []
+        if rounded <= self.target and at_root:
+            candidates.append(self._pool_covering())
+            if self.improve is not None:
+                candidates.append(self.improve(max(1, int(rounded))))
+        if outcome.why == "solved" and rounded <= self.target:
+            candidates.append(self.search.integral_routes(outcome))
+        return candidates
+
+    def _pool_covering(self) -> list[list[int]] | None:
+        """The integer master over the pool now, its size noted."""
+        self.pool_tried = len(self.search.pool)
+        return self.search.integer_master(self.budget)
+
+    def _accept(self, routes: list[list[int]] | None) -> bool:
+        """Keep ``routes`` when they beat the target; True when the search should stop."""
+        if routes is None or len(routes) > self.target:
+            return False
+        self.best, self.target = routes, len(routes) - 1
+        return self.first
 
 
 def _rounded_up(bound: float) -> float:
@@ -599,10 +693,13 @@ class _Search:
                 fractional.append((abs(f - math.floor(f) - 0.5), (i, j) if forward >= backward else (j, i)))
         return [arc for _, arc in sorted(fractional)]
 
-    def integer_master(self, budget: float, time_limit: float | None) -> list[list[int]] | None:
-        """Set covering (1)-(3) over every pooled column within ``budget`` (HiGHS MIP)."""
+    def integer_master(self, budget: float) -> list[list[int]] | None:
+        """Set covering (1)-(3) over every pooled column within ``budget`` (HiGHS MIP), for
+        :data:`MASTER_IP_SHARE` of the time left (at most :data:`MASTER_IP_CAP` seconds)."""
         orders = [self.pool.orders[c] for c in np.flatnonzero(self.pool.lengths <= budget)]
-        return fewest_covering(orders, self.m, time_limit)
+        left = self.left()
+        seconds = MASTER_IP_CAP if left is None else max(min(MASTER_IP_CAP, MASTER_IP_SHARE * left), 0.01)
+        return fewest_covering(orders, self.m, seconds)
 
     def fewest_routes(self, budget: float, incumbent: list[list[int]] | None, target: int,
                       *, first: bool, improve: Improve | None = None,
@@ -627,76 +724,12 @@ class _Search:
             no solution of at most ``target`` routes has a shorter longest route) or
             ``"unknown"`` (time limit, or a node it could not branch on).
         """
-        best = incumbent
-        stack = [_Node.root(self.m)]
-        root_bound: int | None = None
-        unresolved = False
-        pool_tried = 0  # the pool's size when the integer master last ran
-
-        def pool_covering() -> list[list[int]] | None:
-            """The integer master over the pool now, its size noted."""
-            nonlocal pool_tried
-            pool_tried = len(self.pool)
-            return self.integer_master(budget, self._root_ip_time())
-
-        def accept(routes: list[list[int]] | None) -> bool:
-            """Keep ``routes`` when they beat the target; True when the search should stop."""
-            nonlocal best, target
-            if routes is None or len(routes) > target:
-                return False
-            best, target = routes, len(routes) - 1
-            return first
-
         self.enumeration_gap = ENUMERATION_GAP
-        while stack:
-            if self.out_of_time():
-                return best, root_bound, "unknown"
-            node = stack.pop()
-            at_root = root_bound is None
-            if not at_root and len(self.pool) >= POOL_GROWTH * pool_tried and accept(pool_covering()):
-                return best, root_bound, "found"
-            outcome = self.solve_node(node, budget, target)
-            rounded = _rounded_up(outcome.bound)
-            candidates = []
-            if at_root:  # the cheap primal side first: enumeration then proves against it
-                root_bound = max(1, rounded) if math.isfinite(rounded) else None
-                if rounded <= target:
-                    candidates.append(pool_covering())
-                if rounded <= target and improve is not None:
-                    candidates.append(improve(max(1, int(rounded))))
-            if outcome.why == "solved" and rounded <= target:
-                candidates.append(self.integral_routes(outcome))
-            if any(accept(routes) for routes in candidates):
-                return best, root_bound, "found"
-            settled = None
-            if outcome.why == "solved" and rounded <= target and self.integral_routes(outcome) is None:
-                outcome, settled = self._enumerate(node, outcome, budget, target, shortest=first)
-                rounded = _rounded_up(outcome.bound)
-                if at_root and root_bound is not None and math.isfinite(rounded):
-                    root_bound = max(root_bound, rounded)
-                if settled is not None and settled.routes is not None:
-                    if first and at_root and settled.least:
-                        return settled.routes, root_bound, "least"
-                    if accept(settled.routes):
-                        return best, root_bound, "found"
-            if outcome.why == "time limit":
-                return best, root_bound, "unknown"
-            if rounded > target or settled is not None:
-                continue  # closed by its bound, or answered by enumeration
-            if outcome.why != "solved":
-                unresolved = True
-                continue
-            if self.integral_routes(outcome) is not None:
-                continue  # an integral LP optimum: nothing better below this node
-            arc = self.branching_arc(node, outcome, target)
-            if arc is None:
-                unresolved = True
-                continue
-            one, zero = node.children(arc, tours=self.tours)
-            stack.extend([zero, one])
-        return best, root_bound, "unknown" if unresolved else "exhausted"
+        tree = _Decision(self, budget, incumbent, target, first=first, improve=improve)
+        outcome = tree.run()
+        return tree.best, tree.root_bound, outcome
 
-    def _enumerate(self, node: _Node, outcome: _LpOutcome, budget: float, target: int, *,
+    def enumerate_node(self, node: _Node, outcome: _LpOutcome, budget: float, target: int, *,
                    shortest: bool) -> tuple[_LpOutcome, _Settled | None]:
         """Answer ``node`` by route enumeration when its LP gap allows (:mod:`milp.enumeration`).
 
@@ -776,9 +809,6 @@ class _Search:
                 routes, value = better, makespan(self.pricing.D, better, tours=self.tours)
         return routes, True
 
-    def _root_ip_time(self) -> float:
-        left = self.left()
-        return ROOT_IP_CAP if left is None else max(min(ROOT_IP_CAP, ROOT_IP_SHARE * left), 0.01)
 
 
 @njit(cache=True)

@@ -92,14 +92,14 @@ def test_nodes_answered_by_enumeration_agree_with_setpart(tours, monkeypatch):
     """Both questions, k = 3-4 (enumeration's range), on instances where it answers
     nodes (and proves least makespans at the root): the same optima as set partitioning."""
     answered, least = [], []
-    enumerate_node = branchprice._Search._enumerate
+    enumerate_node = branchprice._Search.enumerate_node
 
     def recording(search, *args, **kwargs):
         outcome, settled = enumerate_node(search, *args, **kwargs)
         answered.append(settled is not None)
         return outcome, settled
 
-    monkeypatch.setattr(branchprice._Search, "_enumerate", recording)
+    monkeypatch.setattr(branchprice._Search, "enumerate_node", recording)
     # without the root's integer master the decisions reach enumeration (it runs first)
     monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
     for seed in range(4):
