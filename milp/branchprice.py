@@ -165,10 +165,13 @@ ENUMERATION_GAP = 1.0
 #: against 2.5 s without); with 6 or more (fewest robots at n = 50, where the subset-row
 #: cuts work) it lost 4 of 36 questions proven within 10 s and won 3.
 ENUMERATION_ROUTES = (3, CUT_MIN_ROUTES - 1)
-#: It gives up past this many partial routes, or this many (set, last KPOI) states at the
-#: threshold (the maximal-set filter and the covering MIP grow with them; the n = 40 k = 5
-#: decision of milp/README's table had 52,986 sets) ...
-ENUMERATION_STATES, ENUMERATION_SETS = 2_000_000, 250_000
+#: It gives up past this many partial routes (memory: a listing that gave up at 20 M
+#: peaked at 6.1 GB), or this many (set, last KPOI) states at the threshold (the
+#: maximal-set filter grows with them), or when its share of the time is spent ...
+ENUMERATION_STATES, ENUMERATION_SETS = 8_000_000, 2_500_000
+#: ... the share of the time left that a node's listing and its covering MIPs may take
+#: (whether a listing pays depends on the MIPs after it more than on its size).
+ENUMERATION_SHARE = 0.25
 #: ... and is then tried again only where the gap is below this times the gap it gave up at.
 ENUMERATION_RETRY = 0.5
 #: Prize slack of the enumeration threshold (round-off in sums of duals).
@@ -343,7 +346,10 @@ class _Decision:
             rounded = _rounded_up(outcome.bound)
             if at_root and self.root_bound is not None and math.isfinite(rounded):
                 self.root_bound = max(self.root_bound, rounded)
-            if settled is not None and settled.routes is not None:
+            if settled is None:  # not answered; the LP re-solved for the listing may be integral
+                if outcome.why == "solved" and rounded <= self.target and self._accept(search.integral_routes(outcome)):
+                    return "found", []
+            elif settled.routes is not None:
                 if self.first and at_root and settled.least:
                     self.best = settled.routes
                     return "least", []
@@ -753,28 +759,32 @@ class _Search:
         gap = target - float(y[:self.m].sum() - y[self.m:].sum())
         if gap >= self.enumeration_gap:
             return outcome, None
+        left = self.left()
+        until = math.inf if left is None else time.perf_counter() + ENUMERATION_SHARE * left
         family = enumeration.routes_within_gap(
             self.pricing.D, self.pricing.back, np.concatenate(([0.0], y[:self.m])), budget,
             1.0 - gap - ENUMERATION_SLACK, node.allowed, node.allowed[:, 0],
-            max_states=ENUMERATION_STATES, max_sets=ENUMERATION_SETS, stop_at=math.inf if self.stop_at is None else self.stop_at)
+            max_states=ENUMERATION_STATES, max_sets=ENUMERATION_SETS, stop_at=until)
         if family is None:
             self.enumeration_gap = ENUMERATION_RETRY * gap
             return outcome, None
         orders, lengths = family.maximal()
         self.pool.add(orders, lengths)
-        decided, routes = self._covering(orders, target)
+        decided, routes = self._covering(orders, target, until)
         if not decided:
             return outcome, None
         if routes is None or not shortest:
             return outcome, _Settled(routes)
-        routes, least = self._least_makespan_covering(family, routes, target)
+        routes, least = self._least_makespan_covering(family, routes, target, until)
         return outcome, _Settled(routes, least)
 
-    def _covering(self, orders: list[np.ndarray], target: int) -> tuple[bool, list[list[int]] | None]:
+    def _covering(self, orders: list[np.ndarray], target: int,
+                  until: float) -> tuple[bool, list[list[int]] | None]:
         """Set-covering MIP over ``orders``: ``(True, routes)`` with the fewest covering
         routes when at most ``target``, ``(True, None)`` when proven that none are,
         ``(False, None)`` when HiGHS settled neither in the time left."""
-        solve, routes = covering_solve(orders, self.m, self.left())
+        seconds = None if math.isinf(until) else max(until - time.perf_counter(), 0.01)
+        solve, routes = covering_solve(orders, self.m, seconds)
         if solve.status == "infeasible" or (solve.bound is not None and solve.bound > target + ROUND):
             return True, None
         if solve.status != "optimal" or solve.objective is None or routes is None:
@@ -782,7 +792,7 @@ class _Search:
         return True, (routes if solve.objective <= target + ROUND else None)
 
     def _least_makespan_covering(self, family: enumeration.Family, routes: list[list[int]],
-                                 target: int) -> tuple[list[list[int]], bool]:
+                                 target: int, until: float) -> tuple[list[list[int]], bool]:
         """From a covering of at most ``target`` sets of ``family``, one with the least
         makespan: bisection over the family's route lengths ``T``, each step the covering
         MIP over the sets maximal within ``T`` (:meth:`enumeration.Family.maximal`). Every
@@ -797,10 +807,10 @@ class _Search:
         value = makespan(self.pricing.D, routes, tours=self.tours)
         low = int(np.searchsorted(lengths, self.makespan_bound))  # lengths[:low] are too short
         while (high := int(np.searchsorted(lengths, value * (1 - STRICT)))) > low:
-            if self.out_of_time():
+            if time.perf_counter() >= until:
                 return routes, False
             middle = (low + high) // 2
-            decided, better = self._covering(family.maximal(lengths[middle])[0], target)
+            decided, better = self._covering(family.maximal(lengths[middle])[0], target, until)
             if not decided:
                 return routes, False
             if better is None:

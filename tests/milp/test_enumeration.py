@@ -116,3 +116,29 @@ def test_nodes_answered_by_enumeration_agree_with_setpart(tours, monkeypatch):
             assert fewest.status == "optimal"
             assert fewest.objective == setpart.min_robots(D, deadline, tours=tours).objective
     assert any(answered) and any(least)
+
+
+@pytest.mark.parametrize("tours", [False, True])
+def test_enumeration_out_of_its_time_share_leaves_the_tree_to_decide(tours, monkeypatch):
+    """With a negligible share of the time for listing and covering MIPs, every node's
+    enumeration stops undecided; the branching tree must then reach set partitioning's
+    optima (an undecided listing or MIP is never taken as "no solution")."""
+    gave_up = []
+    routes_within_gap = branchprice.enumeration.routes_within_gap
+
+    def recording(*args, **kwargs):
+        family = routes_within_gap(*args, **kwargs)
+        gave_up.append(family is None)
+        return family
+
+    monkeypatch.setattr(branchprice.enumeration, "routes_within_gap", recording)
+    monkeypatch.setattr(branchprice, "ENUMERATION_SHARE", 1e-9)
+    monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
+    for seed in range(2):
+        D = _euclidean(11, 100 + seed)
+        for k in (3, 4):
+            ours = branchprice.min_makespan(D, k, tours=tours, time_limit=60)
+            theirs = setpart.min_makespan(D, k, tours=tours)
+            assert ours.status == theirs.status == "optimal"
+            assert ours.objective == pytest.approx(theirs.objective, rel=1e-9)
+    assert gave_up and all(gave_up)
