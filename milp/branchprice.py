@@ -746,7 +746,8 @@ class _Search:
         (None: none with at most ``target``; with ``shortest``, those with the least
         makespan, :meth:`_least_makespan_covering`). Gives up (None) when the listing grows past
         :data:`ENUMERATION_STATES` (the gap it gave up at then bars nodes with gaps not below
-        :data:`ENUMERATION_RETRY` x it) or the MIP is not solved in the time left."""
+        :data:`ENUMERATION_RETRY` x it) or the MIP is not solved in time: the listing and its
+        MIPs get :data:`ENUMERATION_SHARE` of the time left."""
         low, high = ENUMERATION_ROUTES
         if not low <= target <= high or target - outcome.value >= self.enumeration_gap:
             return outcome, None
@@ -782,7 +783,8 @@ class _Search:
                   until: float) -> tuple[bool, list[list[int]] | None]:
         """Set-covering MIP over ``orders``: ``(True, routes)`` with the fewest covering
         routes when at most ``target``, ``(True, None)`` when proven that none are,
-        ``(False, None)`` when HiGHS settled neither in the time left."""
+        ``(False, None)`` when HiGHS settled neither by ``until`` (a ``time.perf_counter()``
+        value; inf: no limit)."""
         seconds = None if math.isinf(until) else max(until - time.perf_counter(), 0.01)
         solve, routes = covering_solve(orders, self.m, seconds)
         if solve.status == "infeasible" or (solve.bound is not None and solve.bound > target + ROUND):

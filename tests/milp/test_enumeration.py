@@ -87,6 +87,15 @@ def _euclidean(n: int, seed: int) -> np.ndarray:
     return np.linalg.norm(points[:, None] - points[None], axis=-1)
 
 
+def _least_makespan_as_setpart(D: np.ndarray, k: int, tours: bool):
+    """Branch-and-price's least makespan, asserted proven and equal to set partitioning's."""
+    ours = branchprice.min_makespan(D, k, tours=tours, time_limit=60)
+    theirs = setpart.min_makespan(D, k, tours=tours)
+    assert ours.status == theirs.status == "optimal"
+    assert ours.objective == pytest.approx(theirs.objective, rel=1e-9)
+    return ours
+
+
 @pytest.mark.parametrize("tours", [False, True])
 def test_nodes_answered_by_enumeration_agree_with_setpart(tours, monkeypatch):
     """Both questions, k = 3-4 (enumeration's range), on instances where it answers
@@ -105,10 +114,7 @@ def test_nodes_answered_by_enumeration_agree_with_setpart(tours, monkeypatch):
     for seed in range(4):
         D = _euclidean(11, 100 + seed)
         for k in (3, 4):
-            ours = branchprice.min_makespan(D, k, tours=tours, time_limit=60)
-            theirs = setpart.min_makespan(D, k, tours=tours)
-            assert ours.status == theirs.status == "optimal"
-            assert ours.objective == pytest.approx(theirs.objective, rel=1e-9)
+            ours = _least_makespan_as_setpart(D, k, tours)
             least.append(ours.message.startswith("least makespan over the routes enumerated"))
             # more than k routes, every KPOI reachable
             deadline = max(0.98 * ours.objective, 1.0001 * least_makespan(D, tours=tours))
@@ -137,8 +143,5 @@ def test_enumeration_out_of_its_time_share_leaves_the_tree_to_decide(tours, monk
     for seed in range(2):
         D = _euclidean(11, 100 + seed)
         for k in (3, 4):
-            ours = branchprice.min_makespan(D, k, tours=tours, time_limit=60)
-            theirs = setpart.min_makespan(D, k, tours=tours)
-            assert ours.status == theirs.status == "optimal"
-            assert ours.objective == pytest.approx(theirs.objective, rel=1e-9)
+            _least_makespan_as_setpart(D, k, tours)
     assert gave_up and all(gave_up)
