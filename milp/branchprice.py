@@ -338,7 +338,7 @@ class _Decision:
         rounded = _rounded_up(outcome.bound)
         if at_root:
             self.root_bound = max(1, rounded) if math.isfinite(rounded) else None
-        if any(self._accept(routes) for routes in self._candidates(outcome, rounded, at_root)):
+        if at_root and any(self._accept(routes) for routes in self._root_candidates(rounded)):
             return "found", []
         settled = None
         if outcome.why == "solved" and rounded <= self.target and search.integral_routes(outcome) is None:
@@ -346,15 +346,15 @@ class _Decision:
             rounded = _rounded_up(outcome.bound)
             if at_root and self.root_bound is not None and math.isfinite(rounded):
                 self.root_bound = max(self.root_bound, rounded)
-            if settled is None:  # not answered; the LP re-solved for the listing may be integral
-                if outcome.why == "solved" and rounded <= self.target and self._accept(search.integral_routes(outcome)):
-                    return "found", []
-            elif settled.routes is not None:
+            if settled is not None and settled.routes is not None:
                 if self.first and at_root and settled.least:
                     self.best = settled.routes
                     return "least", []
                 if self._accept(settled.routes):
                     return "found", []
+        # the master's solution when integral (that of the LP re-solved for a listing too)
+        if outcome.why == "solved" and rounded <= self.target and self._accept(search.integral_routes(outcome)):
+            return "found", []
         if outcome.why == "time limit":
             return "unknown", []
         if rounded > self.target or settled is not None:
@@ -371,17 +371,15 @@ class _Decision:
         one, zero = node.children(arc, tours=search.tours)
         return None, [zero, one]  # imposing first
 
-    def _candidates(self, outcome: _LpOutcome, rounded: float, at_root: bool) -> list[list[list[int]] | None]:
-        """Routes that may beat the target: at the root the integer master over the pool
+    def _root_candidates(self, rounded: float) -> list[list[list[int]] | None]:
+        """At the root, routes that may beat the target: the integer master over the pool
         and ``improve`` (the cheap primal side first: enumeration then proves against
-        them), at any node the master's solution when integral."""
-        candidates = []
-        if rounded <= self.target and at_root:
-            candidates.append(self._pool_covering())
-            if self.improve is not None:
-                candidates.append(self.improve(max(1, int(rounded))))
-        if outcome.why == "solved" and rounded <= self.target:
-            candidates.append(self.search.integral_routes(outcome))
+        them)."""
+        if rounded > self.target:
+            return []
+        candidates = [self._pool_covering()]
+        if self.improve is not None:
+            candidates.append(self.improve(max(1, int(rounded))))
         return candidates
 
     def _pool_covering(self) -> list[list[int]] | None:
