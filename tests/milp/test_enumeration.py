@@ -145,3 +145,101 @@ def test_enumeration_out_of_its_time_share_leaves_the_tree_to_decide(tours, monk
         for k in (3, 4):
             _least_makespan_as_setpart(D, k, tours)
     assert gave_up and all(gave_up)
+
+
+@pytest.mark.parametrize("tours", [False, True])
+def test_a_listing_that_gave_up_bars_larger_gaps_in_later_decisions(tours, monkeypatch):
+    """A least makespan takes one decision per better makespan; once a listing has given
+    up at gap ``g``, no later listing (later decisions included) is tried at a gap of
+    ``ENUMERATION_RETRY * g`` or more, and the optima stay set partitioning's."""
+    decision, listings = [0], []  # listings: (decision, gap, gave up)
+    routes_within_gap, fewest_routes = branchprice.enumeration.routes_within_gap, branchprice._Search.fewest_routes
+
+    def counting(search, *args, **kwargs):
+        decision[0] += 1
+        return fewest_routes(search, *args, **kwargs)
+
+    def recording(*args, **kwargs):
+        family = routes_within_gap(*args, **kwargs)
+        listings.append((decision[0], 1.0 - args[4] - branchprice.ENUMERATION_SLACK, family is None))
+        return family
+
+    monkeypatch.setattr(branchprice._Search, "fewest_routes", counting)
+    monkeypatch.setattr(branchprice.enumeration, "routes_within_gap", recording)
+    monkeypatch.setattr(branchprice, "ENUMERATION_STATES", 30)  # every listing gives up
+    monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
+    later = 0
+    for seed in range(3):
+        D = _euclidean(11, 100 + seed)
+        for k in (3, 4):
+            decision[0], listings[:] = 0, []
+            _least_makespan_as_setpart(D, k, tours)
+            for i, (at, gap, _) in enumerate(listings):
+                barred = [g for d, g, gave_up in listings[:i] if gave_up]
+                assert all(gap < branchprice.ENUMERATION_RETRY * g for g in barred)
+                later += any(d < at for d, _, _ in listings[:i])
+    assert all(gave_up for _, _, gave_up in listings)
+    assert later  # some listings came in a later decision than an earlier give-up
+
+
+@pytest.mark.parametrize("tours", [False, True])
+def test_an_undecided_family_does_not_join_the_pool(tours, monkeypatch):
+    """When the covering MIP over a listing settles nothing, the listed sets are not
+    pooled (every pooled column within the budget would enter each later master), and the
+    tree still reaches set partitioning's optima."""
+    listed, pooled_while_listed = [False], []
+    routes_within_gap, add = branchprice.enumeration.routes_within_gap, branchprice._Pool.add
+    enumerate_node = branchprice._Search.enumerate_node
+
+    def listing(*args, **kwargs):
+        family = routes_within_gap(*args, **kwargs)
+        listed[0] = family is not None
+        return family
+
+    def adding(pool, routes, *args, **kwargs):
+        pooled_while_listed.append(listed[0])
+        return add(pool, routes, *args, **kwargs)
+
+    def enumerating(*args, **kwargs):
+        result = enumerate_node(*args, **kwargs)
+        listed[0] = False
+        return result
+
+    monkeypatch.setattr(branchprice.enumeration, "routes_within_gap", listing)
+    monkeypatch.setattr(branchprice._Pool, "add", adding)
+    monkeypatch.setattr(branchprice._Search, "enumerate_node", enumerating)
+    monkeypatch.setattr(branchprice._Search, "_covering", lambda *args: (False, None))
+    monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
+    for seed in range(2):
+        _least_makespan_as_setpart(_euclidean(11, 100 + seed), 3, tours)
+    assert pooled_while_listed and not any(pooled_while_listed)
+
+
+def test_least_makespan_covering_probes_just_below_the_covering_first(monkeypatch):
+    """The bisection over a family's lengths first asks for a covering with every route
+    shorter than the one found (often the least already: then one MIP proves it)."""
+    probes, calls = [], []
+    maximal = branchprice.enumeration.Family.maximal
+    least = branchprice._Search._least_makespan_covering
+
+    def recording_maximal(family, within=np.inf):
+        probes.append(within)
+        return maximal(family, within)
+
+    def recording_least(search, family, routes, *args, **kwargs):
+        lengths = np.unique(family.lengths)
+        value = branchprice.makespan(search.pricing.D, routes, tours=search.tours)
+        below = lengths[lengths < value * (1 - branchprice.STRICT)]
+        probes[:] = []
+        result = least(search, family, routes, *args, **kwargs)
+        if len(below) and below[-1] >= search.makespan_bound and probes:
+            calls.append(probes[0] == below[-1])
+        return result
+
+    monkeypatch.setattr(branchprice.enumeration.Family, "maximal", recording_maximal)
+    monkeypatch.setattr(branchprice._Search, "_least_makespan_covering", recording_least)
+    monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
+    for seed in range(4):
+        for tours in (False, True):
+            _least_makespan_as_setpart(_euclidean(11, 100 + seed), 3, tours)
+    assert calls and all(calls)
