@@ -3,6 +3,7 @@ answering nodes with it against set partitioning."""
 
 from __future__ import annotations
 
+import bisect
 import itertools
 
 import numpy as np
@@ -96,6 +97,21 @@ def _least_makespan_as_setpart(D: np.ndarray, k: int, tours: bool):
     return ours
 
 
+def _recorded_listings(monkeypatch) -> list[tuple[float, object]]:
+    """Every listing branch-and-price asks for from now on: its gap and its family (None:
+    it gave up)."""
+    listings = []
+    list_routes = branchprice.enumeration.routes_within_gap
+
+    def recording(*args, **kwargs):
+        family = list_routes(*args, **kwargs)
+        listings.append((1.0 - args[4] - branchprice.ENUMERATION_SLACK, family))
+        return family
+
+    monkeypatch.setattr(branchprice.enumeration, "routes_within_gap", recording)
+    return listings
+
+
 @pytest.mark.parametrize("tours", [False, True])
 def test_nodes_answered_by_enumeration_agree_with_setpart(tours, monkeypatch):
     """Both questions, k = 3-4 (enumeration's range), on instances where it answers
@@ -129,22 +145,14 @@ def test_enumeration_out_of_its_time_share_leaves_the_tree_to_decide(tours, monk
     """With a negligible share of the time for listing and covering MIPs, every node's
     enumeration stops undecided; the branching tree must then reach set partitioning's
     optima (an undecided listing or MIP is never taken as "no solution")."""
-    gave_up = []
-    routes_within_gap = branchprice.enumeration.routes_within_gap
-
-    def recording(*args, **kwargs):
-        family = routes_within_gap(*args, **kwargs)
-        gave_up.append(family is None)
-        return family
-
-    monkeypatch.setattr(branchprice.enumeration, "routes_within_gap", recording)
+    listings = _recorded_listings(monkeypatch)
     monkeypatch.setattr(branchprice, "ENUMERATION_SHARE", 1e-9)
     monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
     for seed in range(2):
         D = _euclidean(11, 100 + seed)
         for k in (3, 4):
             _least_makespan_as_setpart(D, k, tours)
-    assert gave_up and all(gave_up)
+    assert listings and all(family is None for _, family in listings)
 
 
 @pytest.mark.parametrize("tours", [False, True])
@@ -152,33 +160,28 @@ def test_a_listing_that_gave_up_bars_larger_gaps_in_later_decisions(tours, monke
     """A least makespan takes one decision per better makespan; once a listing has given
     up at gap ``g``, no later listing (later decisions included) is tried at a gap of
     ``ENUMERATION_RETRY * g`` or more, and the optima stay set partitioning's."""
-    decision, listings = [0], []  # listings: (decision, gap, gave up)
-    routes_within_gap, fewest_routes = branchprice.enumeration.routes_within_gap, branchprice._Search.fewest_routes
+    listings, decisions = _recorded_listings(monkeypatch), []  # decisions: listings before each
+    fewest_routes = branchprice._Search.fewest_routes
 
     def counting(search, *args, **kwargs):
-        decision[0] += 1
+        decisions.append(len(listings))
         return fewest_routes(search, *args, **kwargs)
 
-    def recording(*args, **kwargs):
-        family = routes_within_gap(*args, **kwargs)
-        listings.append((decision[0], 1.0 - args[4] - branchprice.ENUMERATION_SLACK, family is None))
-        return family
-
     monkeypatch.setattr(branchprice._Search, "fewest_routes", counting)
-    monkeypatch.setattr(branchprice.enumeration, "routes_within_gap", recording)
     monkeypatch.setattr(branchprice, "ENUMERATION_STATES", 30)  # every listing gives up
     monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
     later = 0
     for seed in range(3):
         D = _euclidean(11, 100 + seed)
         for k in (3, 4):
-            decision[0], listings[:] = 0, []
+            decisions[:], listings[:] = [], []
             _least_makespan_as_setpart(D, k, tours)
-            for i, (at, gap, _) in enumerate(listings):
-                barred = [g for d, g, gave_up in listings[:i] if gave_up]
+            decided_in = [bisect.bisect_right(decisions, i) for i in range(len(listings))]
+            for i, (gap, _) in enumerate(listings):
+                barred = [g for g, family in listings[:i] if family is None]
                 assert all(gap < branchprice.ENUMERATION_RETRY * g for g in barred)
-                later += any(d < at for d, _, _ in listings[:i])
-    assert all(gave_up for _, _, gave_up in listings)
+                later += any(d < decided_in[i] for d in decided_in[:i])
+            assert all(family is None for _, family in listings)
     assert later  # some listings came in a later decision than an earlier give-up
 
 
@@ -187,25 +190,19 @@ def test_an_undecided_family_does_not_join_the_pool(tours, monkeypatch):
     """When the covering MIP over a listing settles nothing, the listed sets are not
     pooled (every pooled column within the budget would enter each later master), and the
     tree still reaches set partitioning's optima."""
-    listed, pooled_while_listed = [False], []
-    routes_within_gap, add = branchprice.enumeration.routes_within_gap, branchprice._Pool.add
-    enumerate_node = branchprice._Search.enumerate_node
-
-    def listing(*args, **kwargs):
-        family = routes_within_gap(*args, **kwargs)
-        listed[0] = family is not None
-        return family
+    listings, pooled_while_listed = _recorded_listings(monkeypatch), []
+    answered = [0]  # listings made before enumerate_node last returned
+    add, enumerate_node = branchprice._Pool.add, branchprice._Search.enumerate_node
 
     def adding(pool, routes, *args, **kwargs):
-        pooled_while_listed.append(listed[0])
+        pooled_while_listed.append(any(family is not None for _, family in listings[answered[0]:]))
         return add(pool, routes, *args, **kwargs)
 
     def enumerating(*args, **kwargs):
         result = enumerate_node(*args, **kwargs)
-        listed[0] = False
+        answered[0] = len(listings)
         return result
 
-    monkeypatch.setattr(branchprice.enumeration, "routes_within_gap", listing)
     monkeypatch.setattr(branchprice._Pool, "add", adding)
     monkeypatch.setattr(branchprice._Search, "enumerate_node", enumerating)
     monkeypatch.setattr(branchprice._Search, "_covering", lambda *args: (False, None))
