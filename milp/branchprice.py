@@ -25,11 +25,11 @@ duals :math:`\pi \ge 0`; the pricing (:class:`milp.ngroute.Pricing`) returns rou
 :math:`\sum_i \pi_i / \max(M, 1)` is a lower bound on the LP for *any* :math:`\pi \ge 0`
 (Farley 1990, Oper. Res. 38; see :mod:`milp.colgen`), so each exact pricing certifies a
 bound, and the node is closed as soon as its rounded-up bound exceeds the target. Columns
-are kept in one pool for the whole search (every node and every budget reuses those that
-fit). Pricing is heuristic first (fast dominance) and exact only when the heuristic finds
-nothing, and the duals are smoothed towards the best certificate so far (Wentges 1997,
-Int. Trans. Oper. Res. 4); a smoothed round that prices out nothing for the true duals
-is repeated with the true duals.
+are kept in one pool for the whole search (:class:`milp.columns.Pool`; every node and
+every budget reuses those that fit). Pricing is heuristic first (fast dominance) and
+exact only when the heuristic finds nothing, and the duals are smoothed towards the best
+certificate so far (Wentges 1997, Int. Trans. Oper. Res. 4); a smoothed round that prices
+out nothing for the true duals is repeated with the true duals.
 
 Subset-row cuts
 ---------------
@@ -42,10 +42,10 @@ valid for every partition into elementary routes (at most one route can visit tw
 three KPOIs; Jepsen, Petersen, Spoorendonk and Pisinger 2008, Oper. Res. 56(2)), with the
 limited-memory coefficients of :func:`milp.ngroute.cut_coefficients` (Pecin, Pessoa,
 Poggi and Uchoa 2017): the memory of a cut is its triple and the KPOIs the current
-solution's routes visit between two of its KPOIs. The pricing carries one parity bit per
-cut; the cut duals :math:`\sigma \le 0` enter Farley's bound as
-:math:`(\sum_i \pi_i + \sum_S \sigma_S) / \max(M, 1)`. At most :data:`MAX_CUTS` cuts in
-all and :data:`CUTS_PER_KPOI` per KPOI, and only for LP solutions of at least
+solution's routes visit between two of its KPOIs (separation: :mod:`milp.cuts`). The
+pricing carries one parity bit per cut; the cut duals :math:`\sigma \le 0` enter Farley's
+bound as :math:`(\sum_i \pi_i + \sum_S \sigma_S) / \max(M, 1)`. At most :data:`MAX_CUTS`
+cuts in all and :data:`CUTS_PER_KPOI` per KPOI, and only for LP solutions of at least
 :data:`CUT_MIN_ROUTES` routes: each parity bit splits the labels a dominance test can
 compare (measured: unlimited cuts made a 12-KPOI, 2-path search 200x slower, while the
 fewest-robots cells at n = 50 closed at the root).
@@ -55,14 +55,13 @@ Branching
 On arc flows :math:`x_{ij} = \sum_r \lambda_r [r \text{ uses } (i, j)]`, arcs from the
 start and arcs to the end of a route included (for tours on edge flows
 :math:`x_{ij} + x_{ji}`, a tour and its reverse being one tour): the most fractional arc
-is forbidden in one child (``x = 0``; for tours both directions) and imposed in the
-other (``x = 1``: ``i`` is followed by ``j`` in every route through ``i`` and ``j``
-preceded by ``i``), both enforced in the pricing by removing arcs, so that the pricing
-keeps its structure. Every coverage solution
-(elementary routes, one visit per KPOI) lies in one child. Depth first, imposing first
-(finds solutions early). A node whose arc flows are integral but whose :math:`\lambda`
-is not cannot be branched on; the search then ends unproven (status ``feasible``), never
-with a wrong claim.
+is forbidden in one child (``x = 0``; for tours both directions) and imposed in the other
+(``x = 1``: ``i`` is followed by ``j`` in every route through ``i`` and ``j`` preceded by
+``i``), both enforced in the pricing by removing arcs, so that the pricing keeps its
+structure (:class:`milp.columns.Node`). Every coverage solution (elementary routes, one
+visit per KPOI) lies in one child. Depth first, imposing first (finds solutions early). A
+node whose arc flows are integral but whose :math:`\lambda` is not cannot be branched on;
+the search then ends unproven (status ``feasible``), never with a wrong claim.
 
 Route enumeration
 -----------------
@@ -104,13 +103,14 @@ from dataclasses import dataclass
 
 import highspy
 import numpy as np
-from numba import njit
-from numba.core.dispatcher import Dispatcher
 from scipy import sparse
 
 from milp.bounds import makespan_lower_bound as tree_makespan_bound
 from milp.bounds import robots_lower_bound as tree_robots_bound
 from milp import enumeration, ngroute
+from milp.columns import Node, Pool
+from milp.compiling import COMPILE_SECONDS, compile_rarely_used, ready_within
+from milp.cuts import cut_memory, popcount, violated_triples
 from milp.colgen import covering_solve, fewest_covering
 from milp.highs import make_lp, new_highs
 from milp.merge import Merged, merge_zero_distances
@@ -125,11 +125,6 @@ __all__ = ["min_robots", "min_makespan", "ready_within", "compile_pricing", "MAX
 Improve = Callable[[int], "list[list[int]] | None"]
 #: Largest number of (merged) KPOIs the pricing's bit masks are tested with.
 MAX_KPOIS = 200
-#: Seconds to allow for compiling the pricing on its first use, when numba's on-disk cache
-#: does not hold it yet (measured 9.9 s on a shared 2-core EPYC, 7.1 s of it the
-#: labelling; twice that for slower machines). Later runs load it from the cache in a
-#: fraction of a second.
-COMPILE_SECONDS = 20.0
 #: Relative tolerance of certificates (round-off in sums of duals).
 CERT_TOL = 1e-9
 #: A bound within this of an integer counts as that integer (LP round-off): it proves
@@ -185,100 +180,6 @@ ENUMERATION_SLACK = 1e-9
 POOL_GROWTH = 2.0
 
 
-class _Pool:
-    """Every column generated: KPOIs in visiting order, real length, arcs used.
-
-    Arc ``(i, j)`` has id ``i (m+1) + j``; the arc from ``i`` to the end of a route (the
-    sink of a path, the way home of a tour) is ``(i, 0)``. A sparse column-by-arc
-    incidence matrix, rebuilt when the pool has grown, tells which columns a node allows.
-    """
-
-    def __init__(self, D: np.ndarray, *, tours: bool) -> None:
-        self.D, self.tours, self.m = D, tours, len(D) - 1
-        self.orders: list[np.ndarray] = []
-        self.lengths = np.zeros(0)
-        self.arcs: list[np.ndarray] = []
-        self.seen: set[bytes] = set()
-        self._incidence: sparse.csr_matrix | None = None
-
-    def __len__(self) -> int:
-        return len(self.orders)
-
-    def add(self, routes: list[np.ndarray], lengths: np.ndarray | None = None) -> range:
-        """Add the routes (their ``lengths`` when known) not in the pool yet; the indices
-        of the new columns."""
-        before, added = len(self.orders), []
-        for r, route in enumerate(routes):
-            key = route.astype(np.int16).tobytes()
-            if key in self.seen:
-                continue
-            self.seen.add(key)
-            self.orders.append(route)
-            self.arcs.append(np.concatenate(([0], route)) * (self.m + 1) + np.concatenate((route, [0])))
-            added.append(route_cost(self.D, route.tolist(), tours=self.tours) if lengths is None else lengths[r])
-        if added:
-            self.lengths = np.concatenate((self.lengths, added))
-            self._incidence = None
-        return range(before, len(self.orders))
-
-    def allows(self, node: _Node, columns: list[int]) -> np.ndarray:
-        """Which of ``columns`` use only arcs ``node`` allows."""
-        forbidden = (~node.allowed).ravel().astype(np.float64)
-        return self._incidence_matrix()[columns] @ forbidden == 0
-
-    def _incidence_matrix(self) -> sparse.csr_matrix:
-        if self._incidence is None:
-            rows = np.repeat(np.arange(len(self.arcs)), [len(a) for a in self.arcs])
-            self._incidence = sparse.csr_matrix(
-                (np.ones(len(rows)), (rows, np.concatenate(self.arcs))),
-                shape=(len(self.arcs), (self.m + 1) ** 2))
-        return self._incidence
-
-    def fitting(self, budget: float, node: _Node, among: range | None = None) -> list[int]:
-        """Columns (of ``among``, default all) within ``budget`` using only arcs ``node``
-        allows."""
-        forbidden = (~node.allowed).ravel().astype(np.float64)
-        among = range(len(self)) if among is None else among
-        picked = slice(among.start, among.stop)
-        ok = (self._incidence_matrix()[picked] @ forbidden == 0) & (self.lengths[picked] <= budget)
-        return (np.flatnonzero(ok) + among.start).tolist()
-
-
-@dataclass
-class _Node:
-    """Branching decisions: ``allowed[i, j]`` for the arcs routes may use, row 0 the
-    first arcs, column 0 the arcs to the end (``allowed[i, 0]``: a route may end at
-    ``i``)."""
-
-    allowed: np.ndarray
-
-    @classmethod
-    def root(cls, m: int) -> _Node:
-        allowed = np.ones((m + 1, m + 1), dtype=bool)
-        np.fill_diagonal(allowed, False)
-        return cls(allowed)
-
-    def children(self, arc: tuple[int, int], *, tours: bool) -> tuple[_Node, _Node]:
-        """``(imposed, forbidden)`` children for arc ``(i, j)``; ``j = 0`` is the end.
-
-        For tours the forbidden child forbids the edge both ways (``(j, i)`` too): a tour
-        reversed is the same tour, so forbidding one direction alone would let the LP
-        use every forbidden tour backwards. Imposing one direction still leaves every
-        solution that uses the edge in the imposed child (reverse its tour if needed).
-        """
-        i, j = arc
-        one, zero = _Node(self.allowed.copy()), _Node(self.allowed.copy())
-        zero.allowed[i, j] = False
-        if tours:
-            zero.allowed[j, i] = False
-        if j > 0:  # nothing but i may precede j
-            one.allowed[:, j] = False
-        if i > 0:  # i goes nowhere but j (j = 0: i ends its route)
-            one.allowed[i, :] = False
-        one.allowed[i, j] = True
-        return one, zero
-
-
 @dataclass
 class _LpOutcome:
     """Column generation at one node: the certified bound, the master's value and
@@ -319,7 +220,7 @@ class _Decision:
 
     def run(self) -> str:
         """Search the tree; the outcome of :meth:`_Search.fewest_routes`."""
-        stack = [_Node.root(self.search.m)]
+        stack = [Node.root(self.search.m)]
         while stack:
             if self.search.out_of_time():
                 return "unknown"
@@ -329,7 +230,7 @@ class _Decision:
             stack.extend(children)
         return "unknown" if self.unresolved else "exhausted"
 
-    def _visit(self, node: _Node) -> tuple[str | None, list[_Node]]:
+    def _visit(self, node: Node) -> tuple[str | None, list[Node]]:
         """Solve ``node``: an outcome that ends the search (``"found"``, ``"least"``,
         ``"unknown"``), or None and the children to search (none when the node is closed
         by its bound, answered by enumeration, or integral)."""
@@ -410,11 +311,11 @@ class _Search:
         self.m = len(D) - 1
         self.tours = tours
         self.pricing = ngroute.Pricing(D, tours=tours, ng_size=ngroute.NG_SIZE)
-        self.pool = _Pool(D, tours=tours)
+        self.pool = Pool(D, tours=tours)
         self.pool.add([np.array([j]) for j in range(1, self.m + 1)])
         self.stop_at = stop_at
         self.nodes = 0
-        _compile_rarely_used()
+        compile_rarely_used()
         self.cuts: list[tuple[int, int, int]] = []
         self.cut_bits = np.zeros(self.m + 1, dtype=np.uint64)  # bit t: in cut t's triple
         self.cut_memory = np.zeros(self.m + 1, dtype=np.uint64)  # bit t: in cut t's memory
@@ -427,7 +328,7 @@ class _Search:
     def left(self) -> float | None:
         return None if self.stop_at is None else max(self.stop_at - time.perf_counter(), 0.0)
 
-    def price(self, prize: np.ndarray, budget: float, node: _Node, *, exact: bool,
+    def price(self, prize: np.ndarray, budget: float, node: Node, *, exact: bool,
               threshold: float = 1.0, cuts: np.ndarray | None = None,
               memories: np.ndarray | None = None,
               penalties: np.ndarray | None = None) -> ngroute.PricingResult:
@@ -465,7 +366,7 @@ class _Search:
                                         self.cut_memory, len(self.cuts))
         return sparse.vstack([coverage, sparse.csr_matrix(rows)]).tocsc()
 
-    def solve_node(self, node: _Node, budget: float, target: float) -> _LpOutcome:
+    def solve_node(self, node: Node, budget: float, target: float) -> _LpOutcome:
         """Column generation at ``node`` until its bound exceeds ``target`` (closed), the
         LP is solved, or time runs out; a solved fractional LP is strengthened by
         subset-row cuts and solved again while new violated cuts are found."""
@@ -483,7 +384,7 @@ class _Search:
                     or self.integral_routes(outcome) is not None or not self._separate(outcome)):
                 return outcome
 
-    def _column_generation(self, node: _Node, budget: float, target: float, columns: list[int],
+    def _column_generation(self, node: Node, budget: float, target: float, columns: list[int],
                            known: _LpOutcome, *, converge: bool = False) -> _LpOutcome:
         """Column generation over the master with the current cuts (``known``: a bound
         already certified at this node, with its duals). It stops when the certified
@@ -544,7 +445,7 @@ class _Search:
         closing = dual_objective / ((1 + CERT_TOL) * (target + 2 * ROUND))
         return max(1.0, closing)
 
-    def _price_duals(self, y: np.ndarray, budget: float, node: _Node, *, exact: bool,
+    def _price_duals(self, y: np.ndarray, budget: float, node: Node, *, exact: bool,
                      threshold: float = 1.0) -> ngroute.PricingResult:
         """Pricing for duals ``y = (pi, sigma)``: prizes ``pi``, cut penalties ``sigma``;
         routes whose prize exceeds ``threshold``."""
@@ -571,7 +472,7 @@ class _Search:
             return False
         support = np.flatnonzero(outcome.x > INTEGRAL)
         counts = self._coverage([outcome.columns[i] for i in support]).T.toarray()
-        found = _violated_triples(counts, outcome.x[support], CUT_VIOLATION)
+        found = violated_triples(counts, outcome.x[support], CUT_VIOLATION)
         known = set(self.cuts)
         fresh = [t for t in (tuple(int(v) + 1 for v in row) for row in found) if t not in known]
         routes = [self.pool.orders[outcome.columns[i]] for i in support]
@@ -579,18 +480,18 @@ class _Search:
         for triple in fresh:
             if added == min(room, CUTS_PER_ROUND):
                 break
-            if any(_popcount(self.cut_bits[j]) >= CUTS_PER_KPOI for j in triple):
+            if any(popcount(self.cut_bits[j]) >= CUTS_PER_KPOI for j in triple):
                 continue  # more cuts on a KPOI multiply the labels its parities tell apart
             added += 1
             bit = np.uint64(1) << np.uint64(len(self.cuts))
             self.cuts.append(triple)
-            for kpoi in _cut_memory(triple, routes):
+            for kpoi in cut_memory(triple, routes):
                 self.cut_memory[kpoi] |= bit
             for kpoi in triple:
                 self.cut_bits[kpoi] |= bit
         return added > 0
 
-    def _cover_all(self, columns: list[int], budget: float, node: _Node) -> bool | None:
+    def _cover_all(self, columns: list[int], budget: float, node: Node) -> bool | None:
         """Price in columns for KPOIs no column of ``node`` covers (prize 1 on those).
 
         True when every KPOI is covered, False when an exact pricing proves that no route
@@ -621,7 +522,7 @@ class _Search:
         yield duals, True
 
     def _append(self, h: highspy.Highs, columns: list[int], routes: list[np.ndarray],
-                budget: float, node: _Node) -> int:
+                budget: float, node: Node) -> int:
         """Add ``routes`` to the pool and, when they fit, to the master ``h``."""
         fresh = self.pool.fitting(budget, node, self.pool.add(routes))
         if fresh:
@@ -640,7 +541,7 @@ class _Search:
             return None
         return first_visits([self.pool.orders[c] for c in chosen])
 
-    def branching_arc(self, node: _Node, outcome: _LpOutcome, target: int) -> tuple[int, int] | None:
+    def branching_arc(self, node: Node, outcome: _LpOutcome, target: int) -> tuple[int, int] | None:
         """The arc to branch on: among the :data:`STRONG_CANDIDATES` most fractional, the
         one whose two children raise the node's master LP value most (product of the
         gains, each child's value capped at ``target + 1``, where it closes). A child's
@@ -661,7 +562,7 @@ class _Search:
                 best, chosen = gains[0] * gains[1], arc
         return chosen
 
-    def _child_value(self, outcome: _LpOutcome, child: _Node) -> float:
+    def _child_value(self, outcome: _LpOutcome, child: Node) -> float:
         """The node's master LP value with the columns ``child`` forbids fixed at 0,
         re-solved from the node's optimal basis (inf when infeasible); the bounds are
         restored after."""
@@ -735,7 +636,7 @@ class _Search:
         outcome = tree.run()
         return tree.best, tree.root_bound, outcome
 
-    def enumerate_node(self, node: _Node, outcome: _LpOutcome, budget: float, target: int, *,
+    def enumerate_node(self, node: Node, outcome: _LpOutcome, budget: float, target: int, *,
                    shortest: bool) -> tuple[_LpOutcome, _Settled | None]:
         """Answer ``node`` by route enumeration when its LP gap allows (:mod:`milp.enumeration`).
 
@@ -832,52 +733,8 @@ class _Search:
 
 
 
-@njit(cache=True)
-def _violated_triples(counts, x, least):  # pragma: no cover - compiled
-    """Triples ``(a, b, c)`` (0-based KPOIs) whose subset-row cut (5) is violated by more
-    than ``least``: ``sum_r x_r floor((counts_ra + counts_rb + counts_rc) / 2) > 1``,
-    most violated first, at most 64."""
-    m = counts.shape[1]
-    found = np.zeros((0, 4))
-    rows = []
-    for a in range(m):
-        for b in range(a + 1, m):
-            for c in range(b + 1, m):
-                total = 0.0
-                for r in range(counts.shape[0]):
-                    total += x[r] * ((counts[r, a] + counts[r, b] + counts[r, c]) // 2)
-                if total > 1.0 + least:
-                    rows.append((float(a), float(b), float(c), total))
-    if rows:
-        found = np.array(rows)
-        found = found[np.argsort(-found[:, 3])][:64]
-    return found[:, :3].astype(np.int64)
-
-
-def _popcount(bits: np.uint64) -> int:
-    return bin(int(bits)).count("1")
-
-
-def _cut_memory(triple: tuple[int, int, int], routes: list[np.ndarray]) -> set[int]:
-    """The memory of a new cut: its triple and every KPOI that a route of the current
-    solution visits between two of the triple's KPOIs (so the cut keeps its violation)."""
-    memory = set(triple)
-    for route in routes:
-        where = np.flatnonzero(np.isin(route, triple))
-        if len(where) >= 2:
-            memory.update(int(j) for j in route[where[0]:where[-1] + 1])
-    return memory
-
-
 def _count(routes: list[list[int]] | None) -> float:
     return math.inf if routes is None else len(routes)
-
-
-def ready_within(seconds: float | None) -> bool:
-    """Whether a solve can start within ``seconds`` (None: no limit): the compiled pricing
-    is loaded in this process or held by numba's on-disk cache for the current source,
-    or ``seconds`` leaves room to compile it (:data:`COMPILE_SECONDS`)."""
-    return seconds is None or seconds >= COMPILE_SECONDS or all(map(_compiled, _jitted()))
 
 
 def compile_pricing() -> None:
@@ -888,38 +745,6 @@ def compile_pricing() -> None:
     points = np.array([[0.0, 0.0], [3.0, 1.0], [1.0, 4.0], [5.0, 5.0], [6.0, 2.0]])
     D = np.linalg.norm(points[:, None] - points[None], axis=-1)
     min_robots(D, 0.6 * float(D.sum(axis=1).max()), tours=False)
-
-
-def _compile_rarely_used() -> None:
-    """Compile the subset-row cut and enumeration functions, which a search may never
-    call, on toy arguments of the types a search passes: so that after one solve the
-    on-disk cache holds every compiled function and :func:`ready_within` holds."""
-    if not _compiled(_violated_triples):
-        _violated_triples(np.zeros((1, 3)), np.zeros(1), CUT_VIOLATION)
-    if not _compiled(ngroute._cut_counts):
-        bits = np.zeros(2, dtype=np.uint64)
-        ngroute.cut_coefficients([np.array([1])], bits, bits, 1)
-    if not _compiled(enumeration._extend):
-        D = np.array([[0.0, 1.0], [1.0, 0.0]])
-        enumeration.routes_within_gap(D, D[:, 0].copy(), np.array([0.0, 1.0]), 2.0, 0.5,
-                                      np.ones((2, 2), dtype=bool), np.ones(2, dtype=bool), max_states=10)
-
-
-def _jitted() -> list[Dispatcher]:
-    """The compiled functions of the pricing and of the cut separation."""
-    return [f for f in (*vars(ngroute).values(), *vars(enumeration).values(), _violated_triples)
-            if isinstance(f, Dispatcher)]
-
-
-def _compiled(function: Dispatcher) -> bool:
-    """Compiled in this process, or in the on-disk cache with the current source's stamp
-    (numba's index file is read as numba reads it; any error counts as not cached)."""
-    if function.signatures:
-        return True
-    try:
-        return bool(function._cache._cache_file._load_index())
-    except Exception:  # numba's cache internals: when they change, assume a compile
-        return False
 
 
 def _prepare(D: np.ndarray) -> tuple[np.ndarray, Merged]:
@@ -1073,7 +898,7 @@ def min_makespan(
 def _bisect_lp_bound(search: _Search, k: int, lower: float, upper: float) -> float:
     """Largest makespan proven too small by the root LP (bound above ``k``), by bisection
     between ``lower`` (known too small or trivial) and ``upper`` (achievable)."""
-    root = _Node.root(search.m)
+    root = Node.root(search.m)
     while upper - lower > 1e-4 * upper and not search.out_of_time():
         mid = 0.5 * (lower + upper)
         outcome = search.solve_node(root, mid, k)

@@ -74,11 +74,11 @@ def test_branchprice_keeps_to_its_time_limit_warm_start_included():
 
 
 def test_ready_within_needs_the_compiled_pricing_or_room_to_compile(monkeypatch):
-    from milp import branchprice
+    from milp import branchprice, compiling
 
     branchprice.compile_pricing()  # compiles (a fresh installation) or loads the cache
     assert branchprice.ready_within(0.1)
-    monkeypatch.setattr(branchprice, "_compiled", lambda function: False)  # a fresh installation
+    monkeypatch.setattr(compiling, "compiled", lambda function: False)  # a fresh installation
     assert not branchprice.ready_within(branchprice.COMPILE_SECONDS - 1)
     assert branchprice.ready_within(branchprice.COMPILE_SECONDS) and branchprice.ready_within(None)
 

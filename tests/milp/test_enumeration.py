@@ -9,7 +9,7 @@ import itertools
 import numpy as np
 import pytest
 
-from milp import branchprice, setpart
+from milp import branchprice, columns, setpart
 from milp.enumeration import routes_within_gap
 from milp.routes import least_makespan
 
@@ -192,7 +192,7 @@ def test_an_undecided_family_does_not_join_the_pool(tours, monkeypatch):
     tree still reaches set partitioning's optima."""
     listings, pooled_while_listed = _recorded_listings(monkeypatch), []
     answered = [0]  # listings made before enumerate_node last returned
-    add, enumerate_node = branchprice._Pool.add, branchprice._Search.enumerate_node
+    add, enumerate_node = columns.Pool.add, branchprice._Search.enumerate_node
 
     def adding(pool, routes, *args, **kwargs):
         pooled_while_listed.append(any(family is not None for _, family in listings[answered[0]:]))
@@ -203,7 +203,7 @@ def test_an_undecided_family_does_not_join_the_pool(tours, monkeypatch):
         answered[0] = len(listings)
         return result
 
-    monkeypatch.setattr(branchprice._Pool, "add", adding)
+    monkeypatch.setattr(columns.Pool, "add", adding)
     monkeypatch.setattr(branchprice._Search, "enumerate_node", enumerating)
     monkeypatch.setattr(branchprice._Search, "_covering", lambda *args: (False, None))
     monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
