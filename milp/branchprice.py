@@ -162,10 +162,17 @@ ENUMERATION_GAP = 1.0
 ENUMERATION_ROUTES = (3, CUT_MIN_ROUTES - 1)
 #: It gives up past this many partial routes (memory: a listing that gave up at 20 M
 #: peaked at 6.1 GB), or this many (set, last KPOI) states at the threshold (the
-#: maximal-set filter grows with them), or when its share of the time is spent ...
+#: maximal-set filter grows with them) ...
 ENUMERATION_STATES, ENUMERATION_SETS = 8_000_000, 2_500_000
-#: ... the share of the time left that a node's listing and its covering MIPs may take
-#: (whether a listing pays depends on the MIPs after it more than on its size).
+#: ... or when more than this many of its sets are maximal (the covering MIP's columns):
+#: the Necula cell eil51 m = 5 (tours) listed 790,093 sets at the root, 74,132 maximal,
+#: whose MIP ran 78 s and settled nothing (the root's children, at smaller gaps, were then
+#: answered in 3 s each), while the MIPs that answered nodes on the n = 30-40 grid had at
+#: most about 7,000 ...
+ENUMERATION_MAXIMAL = 20_000
+#: ... or when its share of the time is spent: the share of the time left that a node's
+#: listing and its covering MIPs may take (whether a listing pays depends on the MIPs
+#: after it more than on its size).
 ENUMERATION_SHARE = 0.25
 #: ... and is then tried again only where the gap is below this times the gap it gave up at,
 #: in this search's later decisions too (a least makespan's decisions have budgets within a
@@ -646,8 +653,9 @@ class _Search:
         Returns the (re-solved) outcome and, when the node is answered, its best routes
         (None: none with at most ``target``; with ``shortest``, those with the least
         makespan, :meth:`_least_makespan_covering`). Gives up (None) when the listing grows past
-        :data:`ENUMERATION_STATES` (the gap it gave up at then bars nodes with gaps not below
-        :data:`ENUMERATION_RETRY` x it, in later decisions too) or the MIP is not solved in
+        :data:`ENUMERATION_STATES` or holds more than :data:`ENUMERATION_MAXIMAL` maximal sets
+        (the gap it gave up at then bars nodes with gaps not below :data:`ENUMERATION_RETRY`
+        x it, in later decisions too) or the MIP is not solved in
         time: the listing and its MIPs get :data:`ENUMERATION_SHARE` of the time left. The
         listed sets join the pool only when the MIP answered the node: every pooled column
         within the budget enters each later master, and an undecided family of 31,764
@@ -675,6 +683,9 @@ class _Search:
             self.enumeration_gap = ENUMERATION_RETRY * gap
             return outcome, None
         orders, lengths = family.maximal()
+        if len(orders) > ENUMERATION_MAXIMAL:
+            self.enumeration_gap = ENUMERATION_RETRY * gap
+            return outcome, None
         decided, routes = self._covering(orders, target, until)
         if not decided:
             return outcome, None

@@ -240,3 +240,31 @@ def test_least_makespan_covering_probes_just_below_the_covering_first(monkeypatc
         for tours in (False, True):
             _least_makespan_as_setpart(_euclidean(11, 100 + seed), 3, tours)
     assert calls and all(calls)
+
+
+@pytest.mark.parametrize("tours", [False, True])
+def test_a_family_of_too_many_maximal_sets_counts_as_given_up(tours, monkeypatch):
+    """A listing whose maximal sets outnumber ``ENUMERATION_MAXIMAL`` gets no covering MIP
+    (its MIP would be slow and settle nothing) and bars larger gaps, like a listing that
+    gave up; the tree still reaches set partitioning's optima."""
+    monkeypatch.setattr(branchprice, "ENUMERATION_MAXIMAL", 4)
+    listings, events = _recorded_listings(monkeypatch), []  # events: listings then MIPs
+    covering = branchprice._Search._covering
+
+    def recording(search, *args, **kwargs):
+        events.append(("MIP", len(listings)))
+        return covering(search, *args, **kwargs)
+
+    monkeypatch.setattr(branchprice._Search, "_covering", recording)
+    monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
+    too_many = 0
+    for seed in range(3):
+        listings[:], events[:] = [], []
+        _least_makespan_as_setpart(_euclidean(11, 100 + seed), 3, tours)
+        for i, (gap, family) in enumerate(listings):
+            barred = [g for g, f in listings[:i] if f is None or len(f.maximal()[0]) > 4]
+            assert all(gap < branchprice.ENUMERATION_RETRY * g for g in barred)
+            if family is not None and len(family.maximal()[0]) > 4:
+                too_many += 1
+                assert ("MIP", i + 1) not in events  # no covering MIP after this listing
+    assert too_many
