@@ -374,6 +374,7 @@ def _setup(merged: np.ndarray, top: float, *, tours: bool) -> tuple[float, _Pric
 
 def makespan_bound(
     D: np.ndarray, k: int, *, tours: bool, upper: float, time_limit: TimeLimit = None,
+    lower: float = 0.0,
 ) -> BoundInfo:
     """Certified lower bound on the least makespan with at most ``k`` routes, with details.
 
@@ -391,6 +392,10 @@ def makespan_bound(
         Seconds, or a deadline shared with the caller; the bound found so far is
         returned when they run out, and the spanning-tree bound at once when one
         pricing would not fit (:meth:`_Pricer.pricing_seconds`).
+    lower : float, optional
+        A lower bound certified elsewhere (e.g. by branch-and-price's route LP): the
+        bisection starts from the larger of it and the spanning-tree bound, so the bound
+        returned is never below it.
 
     Returns
     -------
@@ -404,7 +409,7 @@ def makespan_bound(
         raise ValueError("k must be at least 1")
     D = check_distance_matrix(D)
     merged = merge_zero_distances(D).D
-    trivial = max(least_makespan(D, tours=tours), tree_lower_bound(merged, k, tours=tours))
+    trivial = max(least_makespan(D, tours=tours), tree_lower_bound(merged, k, tours=tours), lower)
     info = BoundInfo(trivial, trivial)
     ready = _setup(merged, max(upper, trivial), tours=tours)
     if ready is None or upper <= trivial:
@@ -438,12 +443,13 @@ def makespan_bound(
 
 def makespan_lower_bound(
     D: np.ndarray, k: int, *, tours: bool, upper: float, time_limit: TimeLimit = None,
+    lower: float = 0.0,
 ) -> float:
     """Certified lower bound on the least makespan with at most ``k`` routes.
 
     See :func:`makespan_bound` (same parameters); this returns its ``bound`` only.
     """
-    return makespan_bound(D, k, tours=tours, upper=upper, time_limit=time_limit).bound
+    return makespan_bound(D, k, tours=tours, upper=upper, time_limit=time_limit, lower=lower).bound
 
 
 def robots_bound(

@@ -40,6 +40,20 @@ def test_makespan_bound_between_trivial_and_optimum(n, seed, tours, k):
     assert info.bound == colgen.makespan_lower_bound(D, k, tours=tours, upper=1.25 * optimum)
 
 
+@pytest.mark.parametrize("tours", [False, True])
+def test_bisection_starts_from_a_given_lower_bound(tours):
+    """``lower``: a bound certified elsewhere; the bisection starts from it (never returns
+    less) and still stays at or below the optimum."""
+    D = _euclidean(8, 6)
+    optimum = setpart.min_makespan(D, 2, tours=tours).objective
+    free = colgen.makespan_bound(D, 2, tours=tours, upper=1.25 * optimum)
+    given = 0.5 * (free.bound + optimum)  # above what the q-routes prove here, still valid
+    assert free.bound < given
+    started = colgen.makespan_bound(D, 2, tours=tours, upper=1.25 * optimum, lower=given)
+    assert given <= started.bound <= optimum * (1 + 1e-9)
+    assert all(T > given for T, *_ in started.steps)
+
+
 def test_bound_improves_on_trivial_for_one_tour():
     # One tour through 8 KPOIs: the LP over q-routes must see that a single walk within
     # T covers all KPOIs, far above 2 c_max and the spanning-tree bound here.

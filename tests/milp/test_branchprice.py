@@ -15,7 +15,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from milp import branchprice, setpart
+from milp import branchprice, colgen, setpart
 from milp import ngroute
 from milp.ngroute import Pricing
 from milp.routes import least_makespan
@@ -303,3 +303,40 @@ def test_pricing_with_cuts_is_the_elementary_optimum(seed):
                     p * (len(set(order) & set(t)) // 2) for p, t in zip(penalties, triples))
                 best = max(best, float(value))
     assert found.exact and found.best == pytest.approx(best, abs=1e-9)
+
+
+@pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
+def test_makespan_bound_takes_the_q_route_bound_when_the_ng_route_bisection_runs_out(tours, monkeypatch):
+    """When the ng-route LP bisection has not converged in its half of the time, the
+    q-route bound of milp.colgen continues from it, then the ng-route bisection again; the
+    bound stays at or below setpart's optimum. With time to converge, colgen is not run."""
+    D = euclidean(10, 3)
+    k, optimum = 3, setpart.min_makespan(D, 3, tours=tours).objective
+    upper = 1.2 * optimum
+    lower = least_makespan(D, tours=tours)
+    asked: list[float] = []
+    q_bound = colgen.makespan_lower_bound
+
+    def recording(*args, lower: float = 0.0, **kwargs) -> float:
+        asked.append(lower)
+        return q_bound(*args, lower=lower, **kwargs)
+
+    monkeypatch.setattr(branchprice.colgen, "makespan_lower_bound", recording)
+    search = branchprice._Search(D, tours=tours, stop_at=None)
+    converged = branchprice._makespan_lp_bound(search, k, lower, upper, time.perf_counter() + 60)
+    assert not asked and lower < converged <= optimum * (1 + TOL)
+
+    bisect = branchprice._bisect_lp_bound
+    halves: list[float] = []
+
+    def out_of_time_at_first(search, k, low, high):
+        halves.append(low)
+        if len(halves) == 1:  # the first half ends before any step: as with long routes
+            search.stop_at = time.perf_counter()
+        return bisect(search, k, low, high)
+
+    monkeypatch.setattr(branchprice, "_bisect_lp_bound", out_of_time_at_first)
+    search = branchprice._Search(D, tours=tours, stop_at=None)
+    bound = branchprice._makespan_lp_bound(search, k, lower, upper, time.perf_counter() + 60)
+    assert asked == [lower] and len(halves) == 2 and halves[1] >= lower
+    assert bound == pytest.approx(converged, rel=1e-3) and bound <= optimum * (1 + TOL)
