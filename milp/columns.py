@@ -1,9 +1,9 @@
 """The columns and the branching nodes of branch-and-price (:mod:`milp.branchprice`).
 
 A :class:`Pool` keeps every route generated in one search, with its length and the arcs
-it uses; a :class:`Node` holds the branching decisions on arc flows as the arcs routes may
-still use, and tells which pooled routes fit it. Arc ``(i, j)`` of a route runs from KPOI
-``i`` to KPOI ``j`` (0 the start); ``(i, 0)`` is the route's end at ``i``.
+it uses, and tells which of them a node allows; a :class:`Node` holds the branching
+decisions on arc flows as the arcs routes may still use. Arc ``(i, j)`` of a route runs
+from KPOI ``i`` to KPOI ``j`` (0 the start); ``(i, 0)`` is the route's end at ``i``.
 """
 
 from __future__ import annotations
