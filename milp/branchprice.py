@@ -111,7 +111,6 @@ from milp import colgen, enumeration, ngroute
 from milp.columns import Node, Pool
 from milp.compiling import COMPILE_SECONDS, compile_rarely_used, ready_within
 from milp.cuts import cut_memory, popcount, violated_triples
-from milp.colgen import covering_solve, fewest_covering
 from milp.highs import make_lp, new_highs
 from milp.merge import Merged, merge_zero_distances
 from milp.result import MilpResult, relative_gap
@@ -617,7 +616,7 @@ class _Search:
         orders = [self.pool.orders[c] for c in np.flatnonzero(self.pool.lengths <= budget)]
         left = self.left()
         seconds = MASTER_IP_CAP if left is None else max(min(MASTER_IP_CAP, MASTER_IP_SHARE * left), 0.01)
-        return fewest_covering(orders, self.m, seconds)
+        return colgen.fewest_covering(orders, self.m, seconds)
 
     def fewest_routes(self, budget: float, incumbent: list[list[int]] | None, target: int,
                       *, first: bool, improve: Improve | None = None,
@@ -682,11 +681,8 @@ class _Search:
             self.pricing.D, self.pricing.back, np.concatenate(([0.0], y[:self.m])), budget,
             1.0 - gap - ENUMERATION_SLACK, node.allowed, node.allowed[:, 0],
             max_states=ENUMERATION_STATES, max_sets=ENUMERATION_SETS, stop_at=until)
-        if family is None:
-            self.enumeration_gap = ENUMERATION_RETRY * gap
-            return outcome, None
-        orders, lengths = family.maximal()
-        if len(orders) > ENUMERATION_MAXIMAL:
+        orders, lengths = family.maximal() if family is not None else ([], np.zeros(0))
+        if family is None or len(orders) > ENUMERATION_MAXIMAL:  # gave up, or too large a MIP
             self.enumeration_gap = ENUMERATION_RETRY * gap
             return outcome, None
         decided, routes = self._covering(orders, target, until)
@@ -705,7 +701,7 @@ class _Search:
         ``(False, None)`` when HiGHS settled neither by ``until`` (a ``time.perf_counter()``
         value; inf: no limit)."""
         seconds = None if math.isinf(until) else max(until - time.perf_counter(), 0.01)
-        solve, routes = covering_solve(orders, self.m, seconds)
+        solve, routes = colgen.covering_solve(orders, self.m, seconds)
         if solve.status == "infeasible" or (solve.bound is not None and solve.bound > target + ROUND):
             return True, None
         if solve.status != "optimal" or solve.objective is None or routes is None:
@@ -924,7 +920,7 @@ def _makespan_lp_bound(search: _Search, k: int, lower: float, upper: float, unti
     446.87 -> 446.96; unseen TSPLIB instances pr76 m = 2 51,686 -> 54,334, kroA100 m = 3
     7,320.8 -> 7,353.8, st70 m = 3 273.19 both, but st70 m = 2 354.96 -> 353.93 and pr76
     m = 3 43,925 -> 43,566 (the q-route bound was below the ng-route one there, and its time
-    was lost). On n = 30-40 random instances (14 cells, 15 s) the ng-route bisection
+    was lost). On n = 30-40 random instances (18 cells, 15 s) the ng-route bisection
     converges within a second and the q-route one is never run."""
     now = time.perf_counter()
     search.stop_at = None if until is None else now + NG_BISECTION_FIRST * (until - now)
