@@ -9,7 +9,8 @@ start and ``1..n`` the KPOIs. Methods:
   an independent check.
 - :mod:`milp.branchprice`: branch-and-price over ng-routes (:mod:`milp.ngroute`, numba
   labelling): fewest routes within a deadline, least makespan as a sequence of those;
-  its column pool and branching nodes in :mod:`milp.columns`, its subset-row cut
+  the tree of each decision in :mod:`milp.tree`, its column pool and branching nodes
+  in :mod:`milp.columns`, its subset-row cut
   separation in :mod:`milp.cuts`, the readiness of its compiled functions in
   :mod:`milp.compiling`, its route listing in :mod:`milp.enumeration`.
 - :mod:`milp.cvx`: the arc-flow model written in cvxpy, for reading (imported on demand,

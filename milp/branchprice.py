@@ -80,7 +80,7 @@ makespan; at the root that ends the search (below).
 Primal side: the incumbent comes from the caller (``warm_start``, e.g. parcover's
 ``best``), from integral master solutions, and from the master solved as an integer
 program over the pool (price-and-branch) at the root, and again below it whenever the
-pool has grown :data:`POOL_GROWTH` times.
+pool has grown :data:`milp.tree.POOL_GROWTH` times.
 
 Least makespan with k routes
 ----------------------------
@@ -98,7 +98,6 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import highspy
@@ -114,21 +113,16 @@ from milp.cuts import cut_memory, popcount, violated_triples
 from milp.highs import make_lp, new_highs
 from milp.merge import Merged, merge_zero_distances
 from milp.result import MilpResult, relative_gap
+from milp.tree import ROUND, Decision, Improve, Settled, rounded_up
 from milp.routes import check_distance_matrix, first_visits, least_makespan, makespan, route_cost, within
 from milp.warmstart import nearest_neighbour_order, split_min_makespan
 
 __all__ = ["min_robots", "min_makespan", "ready_within", "compile_pricing", "MAX_KPOIS", "COMPILE_SECONDS"]
 
-#: A heuristic asked for routes (KPOIs ``1..n``) with at most the given number of routes
-#: within the deadline, or ``None``.
-Improve = Callable[[int], "list[list[int]] | None"]
 #: Largest number of (merged) KPOIs the pricing's bit masks are tested with.
 MAX_KPOIS = 200
 #: Relative tolerance of certificates (round-off in sums of duals).
 CERT_TOL = 1e-9
-#: A bound within this of an integer counts as that integer (LP round-off): it proves
-#: more than ``t`` routes are needed only when above ``t + ROUND`` (:func:`_rounded_up`).
-ROUND = 1e-6
 #: Weight of the stability center in the pricing duals.
 SMOOTHING = 0.5
 #: A makespan decision asks for routes within ``Z * (1 - STRICT)``.
@@ -183,10 +177,6 @@ ENUMERATION_SHARE = 0.25
 ENUMERATION_RETRY = 0.5
 #: Prize slack of the enumeration threshold (round-off in sums of duals).
 ENUMERATION_SLACK = 1e-9
-#: Below the root, the integer master over the pool runs again whenever the pool has grown
-#: this many times since it last ran (enumerated families add many routes within the
-#: budget; a covering of them is a solution the tree may reach only much later).
-POOL_GROWTH = 2.0
 
 
 @dataclass
@@ -201,116 +191,6 @@ class _LpOutcome:
     why: str
     master: highspy.Highs | None = None  # the master LP just solved (set when why is "solved")
     duals: np.ndarray | None = None  # (pi, sigma) certifying ``bound`` (scaled by Farley's M)
-
-
-@dataclass
-class _Settled:
-    """A node answered by route enumeration: its fewest routes when at most the target,
-    else None (the node holds no such solution). ``least``: the routes have the least
-    makespan of any solution of at most the target routes at the node (answered by
-    :meth:`_Search._least_makespan_covering`)."""
-
-    routes: list[list[int]] | None
-    least: bool = False
-
-
-class _Decision:
-    """The tree of one fewest-routes search (:meth:`_Search.fewest_routes`): depth first
-    from the root, the best routes found so far and the target they leave (one route
-    fewer), the root's bound."""
-
-    def __init__(self, search: _Search, budget: float, incumbent: list[list[int]] | None,
-                 target: int, *, first: bool, improve: Improve | None) -> None:
-        self.search, self.budget, self.first, self.improve = search, budget, first, improve
-        self.best, self.target = incumbent, target
-        self.root_bound: int | None = None  # set when the root is solved (None: still at it)
-        self.unresolved = False  # a node was left open (pricing stalled, nothing to branch on)
-        self.pool_tried = 0  # the pool's size when the integer master last ran
-
-    def run(self) -> str:
-        """Search the tree; the outcome of :meth:`_Search.fewest_routes`."""
-        stack = [Node.root(self.search.m)]
-        while stack:
-            if self.search.out_of_time():
-                return "unknown"
-            ended, children = self._visit(stack.pop())
-            if ended is not None:
-                return ended
-            stack.extend(children)
-        return "unknown" if self.unresolved else "exhausted"
-
-    def _visit(self, node: Node) -> tuple[str | None, list[Node]]:
-        """Solve ``node``: an outcome that ends the search (``"found"``, ``"least"``,
-        ``"unknown"``), or None and the children to search (none when the node is closed
-        by its bound, answered by enumeration, or integral)."""
-        search, budget = self.search, self.budget
-        at_root = self.root_bound is None
-        if not at_root and len(search.pool) >= POOL_GROWTH * self.pool_tried and self._accept(self._pool_covering()):
-            return "found", []
-        outcome = search.solve_node(node, budget, self.target)
-        rounded = _rounded_up(outcome.bound)
-        if at_root:
-            self.root_bound = max(1, rounded) if math.isfinite(rounded) else None
-        if at_root and any(self._accept(routes) for routes in self._root_candidates(rounded)):
-            return "found", []
-        settled = None
-        if outcome.why == "solved" and rounded <= self.target and search.integral_routes(outcome) is None:
-            outcome, settled = search.enumerate_node(node, outcome, budget, self.target, shortest=self.first)
-            rounded = _rounded_up(outcome.bound)
-            if at_root and self.root_bound is not None and math.isfinite(rounded):
-                self.root_bound = max(self.root_bound, rounded)
-            if settled is not None and settled.routes is not None:
-                if self.first and at_root and settled.least:
-                    self.best = settled.routes
-                    return "least", []
-                if self._accept(settled.routes):
-                    return "found", []
-        # the master's solution when integral (that of the LP re-solved for a listing too)
-        if outcome.why == "solved" and rounded <= self.target and self._accept(search.integral_routes(outcome)):
-            return "found", []
-        if outcome.why == "time limit":
-            return "unknown", []
-        if rounded > self.target or settled is not None:
-            return None, []  # closed by its bound, or answered by enumeration
-        if outcome.why != "solved":
-            self.unresolved = True
-            return None, []
-        if search.integral_routes(outcome) is not None:
-            return None, []  # an integral LP optimum: nothing better below this node
-        arc = search.branching_arc(node, outcome, self.target)
-        if arc is None:
-            self.unresolved = True
-            return None, []
-        one, zero = node.children(arc, tours=search.tours)
-        return None, [zero, one]  # imposing first
-
-    def _root_candidates(self, rounded: float) -> list[list[list[int]] | None]:
-        """At the root, routes that may beat the target: the integer master over the pool
-        and ``improve`` (the cheap primal side first: enumeration then proves against
-        them)."""
-        if rounded > self.target:
-            return []
-        candidates = [self._pool_covering()]
-        if self.improve is not None:
-            candidates.append(self.improve(max(1, int(rounded))))
-        return candidates
-
-    def _pool_covering(self) -> list[list[int]] | None:
-        """The integer master over the pool now, its size noted."""
-        self.pool_tried = len(self.search.pool)
-        return self.search.integer_master(self.budget)
-
-    def _accept(self, routes: list[list[int]] | None) -> bool:
-        """Keep ``routes`` when they beat the target; True when the search should stop."""
-        if routes is None or len(routes) > self.target:
-            return False
-        self.best, self.target = routes, len(routes) - 1
-        return self.first
-
-
-def _rounded_up(bound: float) -> float:
-    """The least number of routes a certified LP bound proves (inf stays inf)."""
-    return math.ceil(bound - ROUND) if math.isfinite(bound) else bound
 
 
 class _Search:
@@ -389,7 +269,7 @@ class _Search:
         outcome = _LpOutcome(0.0, math.inf, columns, np.zeros(0), "")
         while True:
             outcome = self._column_generation(node, budget, target, columns, outcome)
-            if (outcome.why != "solved" or _rounded_up(outcome.bound) > target
+            if (outcome.why != "solved" or rounded_up(outcome.bound) > target
                     or self.integral_routes(outcome) is not None or not self._separate(outcome)):
                 return outcome
 
@@ -411,7 +291,7 @@ class _Search:
             # (pi, sigma) >= 0: covering duals, and cut duals with their sign turned
             duals = np.concatenate((np.maximum(row_dual[:self.m], 0.0), np.maximum(-row_dual[self.m:], 0.0)))
             x = np.asarray(h.getSolution().col_value, dtype=np.float64)
-            if ((_rounded_up(bound) >= _rounded_up(value) and not converge)
+            if ((rounded_up(bound) >= rounded_up(value) and not converge)
                     or bound >= value * (1 - 1e-7)):
                 return _LpOutcome(bound, value, columns, x, "solved", h, certificate)
             if self.out_of_time():
@@ -425,7 +305,7 @@ class _Search:
                     if certified > bound:
                         bound, center = certified, y / max(res.best, 1.0)
                         certificate = center
-                    if _rounded_up(bound) > target:
+                    if rounded_up(bound) > target:
                         return _LpOutcome(bound, value, columns, x, "closed", duals=certificate)
                 useful = [r for r in res.routes if self._route_value(r, duals) > 1 + 1e-9]
                 found = self._append(h, columns, useful, budget, node)
@@ -628,7 +508,7 @@ class _Search:
         With ``first``, returns at the first solution found. ``improve``, when the root
         does not prove the incumbent, is asked once for routes meeting the root's bound.
         The integer master over the pool runs at the root and again below it whenever the
-        pool has grown :data:`POOL_GROWTH` times.
+        pool has grown :data:`milp.tree.POOL_GROWTH` times.
 
         Returns
         -------
@@ -641,12 +521,12 @@ class _Search:
             no solution of at most ``target`` routes has a shorter longest route) or
             ``"unknown"`` (time limit, or a node it could not branch on).
         """
-        tree = _Decision(self, budget, incumbent, target, first=first, improve=improve)
+        tree = Decision(self, budget, incumbent, target, first=first, improve=improve)
         outcome = tree.run()
         return tree.best, tree.root_bound, outcome
 
     def enumerate_node(self, node: Node, outcome: _LpOutcome, budget: float, target: int, *,
-                   shortest: bool) -> tuple[_LpOutcome, _Settled | None]:
+                   shortest: bool) -> tuple[_LpOutcome, Settled | None]:
         """Answer ``node`` by route enumeration when its LP gap allows (:mod:`milp.enumeration`).
 
         The LP is first solved to the end (its duals then give the smallest gap
@@ -669,8 +549,8 @@ class _Search:
         outcome = self._column_generation(node, budget, target, outcome.columns, outcome, converge=True)
         if outcome.why not in ("solved", "closed") or outcome.duals is None:
             return outcome, None
-        if _rounded_up(outcome.bound) > target:
-            return outcome, _Settled(None)
+        if rounded_up(outcome.bound) > target:
+            return outcome, Settled(None)
         y = outcome.duals / (1 + CERT_TOL)
         gap = target - float(y[:self.m].sum() - y[self.m:].sum())
         if gap >= self.enumeration_gap:
@@ -690,9 +570,9 @@ class _Search:
             return outcome, None
         self.pool.add(orders, lengths)
         if routes is None or not shortest:
-            return outcome, _Settled(routes)
+            return outcome, Settled(routes)
         routes, least = self._least_makespan_covering(family, routes, target, until)
-        return outcome, _Settled(routes, least)
+        return outcome, Settled(routes, least)
 
     def _covering(self, orders: list[np.ndarray], target: int,
                   until: float) -> tuple[bool, list[list[int]] | None]:

@@ -15,7 +15,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from milp import branchprice, colgen, setpart
+from milp import branchprice, colgen, setpart, tree
 from milp import ngroute
 from milp.ngroute import Pricing
 from milp.routes import least_makespan
@@ -152,7 +152,7 @@ def test_integer_master_below_the_root_keeps_the_optimum(monkeypatch):
 
         monkeypatch.setattr(branchprice._Search, name, counting)
     searches, masters = calls["fewest_routes"], calls["integer_master"]
-    monkeypatch.setattr(branchprice, "POOL_GROWTH", 1.0)
+    monkeypatch.setattr(tree, "POOL_GROWTH", 1.0)
     monkeypatch.setattr(branchprice, "ENUMERATION_ROUTES", (0, -1))  # the tree, not enumeration
     D = euclidean(16, 1)  # branches (test_strong_branching_reaches_setparts_optimum)
     for tours in (False, True):

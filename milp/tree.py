@@ -1,0 +1,145 @@
+"""The tree of one fewest-routes decision in :mod:`milp.branchprice`.
+
+:class:`Decision` searches the branch-and-price tree of "at most ``target`` routes within
+``budget``" depth first, imposing first: each node is solved by column generation
+(:meth:`milp.branchprice._Search.solve_node`), closed by its certified bound rounded up
+(:func:`rounded_up`), answered by route enumeration (:class:`Settled`) or by an integral
+master, or split on an arc flow (:meth:`milp.columns.Node.children`). The primal side runs
+here too: the integer master over the pool at the root and whenever the pool has grown
+:data:`POOL_GROWTH` times, and the caller's ``improve`` heuristic once at the root.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from milp.columns import Node
+
+if TYPE_CHECKING:
+    from milp.branchprice import _Search
+
+__all__ = ["Decision", "Settled", "Improve", "rounded_up", "ROUND", "POOL_GROWTH"]
+
+#: A heuristic asked for routes (KPOIs ``1..n``) with at most the given number of routes
+#: within the deadline, or ``None``.
+Improve = Callable[[int], "list[list[int]] | None"]
+#: A bound within this of an integer counts as that integer (LP round-off): it proves
+#: more than ``t`` routes are needed only when above ``t + ROUND`` (:func:`rounded_up`).
+ROUND = 1e-6
+#: Below the root, the integer master over the pool runs again whenever the pool has grown
+#: this many times since it last ran (enumerated families add many routes within the
+#: budget; a covering of them is a solution the tree may reach only much later).
+POOL_GROWTH = 2.0
+
+
+@dataclass
+class Settled:
+    """A node answered by route enumeration: its fewest routes when at most the target,
+    else None (the node holds no such solution). ``least``: the routes have the least
+    makespan of any solution of at most the target routes at the node (answered by
+    :meth:`milp.branchprice._Search._least_makespan_covering`)."""
+
+    routes: list[list[int]] | None
+    least: bool = False
+
+
+class Decision:
+    """The tree of one fewest-routes search (:meth:`milp.branchprice._Search.fewest_routes`): depth first
+    from the root, the best routes found so far and the target they leave (one route
+    fewer), the root's bound."""
+
+    def __init__(self, search: _Search, budget: float, incumbent: list[list[int]] | None,
+                 target: int, *, first: bool, improve: Improve | None) -> None:
+        self.search, self.budget, self.first, self.improve = search, budget, first, improve
+        self.best, self.target = incumbent, target
+        self.root_bound: int | None = None  # set when the root is solved (None: still at it)
+        self.unresolved = False  # a node was left open (pricing stalled, nothing to branch on)
+        self.pool_tried = 0  # the pool's size when the integer master last ran
+
+    def run(self) -> str:
+        """Search the tree; the outcome of :meth:`milp.branchprice._Search.fewest_routes`."""
+        stack = [Node.root(self.search.m)]
+        while stack:
+            if self.search.out_of_time():
+                return "unknown"
+            ended, children = self._visit(stack.pop())
+            if ended is not None:
+                return ended
+            stack.extend(children)
+        return "unknown" if self.unresolved else "exhausted"
+
+    def _visit(self, node: Node) -> tuple[str | None, list[Node]]:
+        """Solve ``node``: an outcome that ends the search (``"found"``, ``"least"``,
+        ``"unknown"``), or None and the children to search (none when the node is closed
+        by its bound, answered by enumeration, or integral)."""
+        search, budget = self.search, self.budget
+        at_root = self.root_bound is None
+        if not at_root and len(search.pool) >= POOL_GROWTH * self.pool_tried and self._accept(self._pool_covering()):
+            return "found", []
+        outcome = search.solve_node(node, budget, self.target)
+        rounded = rounded_up(outcome.bound)
+        if at_root:
+            self.root_bound = max(1, rounded) if math.isfinite(rounded) else None
+        if at_root and any(self._accept(routes) for routes in self._root_candidates(rounded)):
+            return "found", []
+        settled = None
+        if outcome.why == "solved" and rounded <= self.target and search.integral_routes(outcome) is None:
+            outcome, settled = search.enumerate_node(node, outcome, budget, self.target, shortest=self.first)
+            rounded = rounded_up(outcome.bound)
+            if at_root and self.root_bound is not None and math.isfinite(rounded):
+                self.root_bound = max(self.root_bound, rounded)
+            if settled is not None and settled.routes is not None:
+                if self.first and at_root and settled.least:
+                    self.best = settled.routes
+                    return "least", []
+                if self._accept(settled.routes):
+                    return "found", []
+        # the master's solution when integral (that of the LP re-solved for a listing too)
+        if outcome.why == "solved" and rounded <= self.target and self._accept(search.integral_routes(outcome)):
+            return "found", []
+        if outcome.why == "time limit":
+            return "unknown", []
+        if rounded > self.target or settled is not None:
+            return None, []  # closed by its bound, or answered by enumeration
+        if outcome.why != "solved":
+            self.unresolved = True
+            return None, []
+        if search.integral_routes(outcome) is not None:
+            return None, []  # an integral LP optimum: nothing better below this node
+        arc = search.branching_arc(node, outcome, self.target)
+        if arc is None:
+            self.unresolved = True
+            return None, []
+        one, zero = node.children(arc, tours=search.tours)
+        return None, [zero, one]  # imposing first
+
+    def _root_candidates(self, rounded: float) -> list[list[list[int]] | None]:
+        """At the root, routes that may beat the target: the integer master over the pool
+        and ``improve`` (the cheap primal side first: enumeration then proves against
+        them)."""
+        if rounded > self.target:
+            return []
+        candidates = [self._pool_covering()]
+        if self.improve is not None:
+            candidates.append(self.improve(max(1, int(rounded))))
+        return candidates
+
+    def _pool_covering(self) -> list[list[int]] | None:
+        """The integer master over the pool now, its size noted."""
+        self.pool_tried = len(self.search.pool)
+        return self.search.integer_master(self.budget)
+
+    def _accept(self, routes: list[list[int]] | None) -> bool:
+        """Keep ``routes`` when they beat the target; True when the search should stop."""
+        if routes is None or len(routes) > self.target:
+            return False
+        self.best, self.target = routes, len(routes) - 1
+        return self.first
+
+
+def rounded_up(bound: float) -> float:
+    """The least number of routes a certified LP bound proves (inf stays inf)."""
+    return math.ceil(bound - ROUND) if math.isfinite(bound) else bound
