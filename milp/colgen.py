@@ -117,7 +117,8 @@ class BoundInfo:
     bound : float
         The certified bound (makespan) or its float value before rounding up (robots).
     trivial : float
-        The bound it started from (``c_max`` / ``2 c_max`` and the spanning-tree bound).
+        The bound it started from (``c_max`` / ``2 c_max``, the spanning-tree bound and,
+        for :func:`makespan_bound`, the caller's ``lower``).
     steps : list of tuple
         ``(T, proven, farley_bound, master_value, iterations)`` per trial makespan.
     columns : int
@@ -409,20 +410,20 @@ def makespan_bound(
         raise ValueError("k must be at least 1")
     D = check_distance_matrix(D)
     merged = merge_zero_distances(D).D
-    trivial = max(least_makespan(D, tours=tours), tree_lower_bound(merged, k, tours=tours), lower)
-    info = BoundInfo(trivial, trivial)
-    ready = _setup(merged, max(upper, trivial), tours=tours)
-    if ready is None or upper <= trivial:
-        info.message = "trivial bound (nothing to bisect or grid too large)"
+    floor = max(least_makespan(D, tours=tours), tree_lower_bound(merged, k, tours=tours), lower)
+    info = BoundInfo(floor, floor)
+    ready = _setup(merged, max(upper, floor), tours=tours)
+    if ready is None or upper <= floor:
+        info.message = "starting bound (nothing to bisect or grid too large)"
         info.seconds = time.perf_counter() - began
         return info
     delta, pricer = ready
     if not _pricing_fits(pricer, pricer.budget(upper, delta), clock):
-        info.message = "trivial bound (no time for one pricing)"
+        info.message = "starting bound (no time for one pricing)"
         info.seconds = time.perf_counter() - began
         return info
     master = _single_kpoi_master(pricer)
-    lo, hi = trivial, upper
+    lo, hi = floor, upper
     info.message = "converged"
     while hi - lo > BISECTION_TOL * hi:
         if stop_at is not None and time.perf_counter() >= stop_at:
