@@ -10,7 +10,8 @@ Breaban and Raschip, ICTAI 2015). Each cell gets the issue's 10 minutes:
   (exact's own warm start, 200 rounds of ``best``, is far weaker on routes of 25-50
   KPOIs: berlin52 m = 2 4342.6 against 4110.2 after 60 s of ``best``);
 - our certified lower bound: the largest of that bound, ``2 c_max``, the spanning-tree
-  bound (:func:`milp.bounds.makespan_lower_bound`) and, when the cell is not proven yet,
+  and Held-Karp bounds (:func:`milp.bounds.makespan_lower_bound`) and, when the cell is
+  not proven yet,
   the column-generation bound over q-routes (:func:`milp.colgen.makespan_bound`, at most
   :data:`BOUND_SECONDS`), which stays cheap where branch-and-price's pricing of long
   routes (m = 2, 3) does not finish;
@@ -132,7 +133,8 @@ def run(config: Config) -> Section:
         f"`parcover.solve(method=\"exact\")` with {exact_s:g} s from the tours of "
         f"`parcover.solve(method=\"best\")` with {best_s:g} s (`model`: the method that "
         "answered, branch-and-price at these sizes); `bound`: our "
-        "certified lower bound, the largest of `2 c_max`, the spanning-tree bound, the exact "
+        "certified lower bound, the largest of `2 c_max`, the `tree bound` (the spanning-tree and "
+        "Held-Karp bounds of `milp.bounds.makespan_lower_bound`), the exact "
         "method's bound and, for a cell not yet proven, the column-generation bound "
         "(`milp.colgen`: set covering over q-routes with 2-cycle elimination, Farley's bound, "
         f"bisection on the makespan; at most {bound_s:g} s). `proven`: value within 1e-6 "
