@@ -29,28 +29,17 @@ HELD_KARP_ROBOT_STEPS = 3
 
 
 def spanning_tree_length(D: np.ndarray) -> float:
-    """Length of a minimum spanning tree of the complete graph on ``D``.
+    """Length of a minimum spanning tree of the complete graph on ``D``
+    (:func:`_spanning_tree`)."""
+    return _spanning_tree(D)[0]
+
+
+def _spanning_tree(C: np.ndarray) -> tuple[float, np.ndarray]:
+    """Length and node degrees of a minimum spanning tree of the complete graph on ``C``.
 
     Prim's algorithm on the dense matrix, O(n^2) time and O(n) extra memory; zero
     distances (coincident points) are ordinary edges.
     """
-    n = len(D)
-    in_tree = np.zeros(n, dtype=bool)
-    in_tree[0] = True
-    nearest = np.array(D[0], dtype=float)
-    total = 0.0
-    for _ in range(n - 1):
-        candidates = np.where(in_tree, np.inf, nearest)
-        j = int(np.argmin(candidates))
-        total += float(candidates[j])
-        in_tree[j] = True
-        np.minimum(nearest, D[j], out=nearest)
-    return total
-
-
-def _tree_degrees(C: np.ndarray) -> tuple[float, np.ndarray]:
-    """Length and node degrees of a minimum spanning tree of the complete graph on ``C``
-    (Prim's algorithm, as :func:`spanning_tree_length`)."""
     n = len(C)
     in_tree = np.zeros(n, dtype=bool)
     in_tree[0] = True
@@ -103,7 +92,7 @@ def held_karp_makespan_bound(D: np.ndarray, k: int, *, tours: bool) -> float:
     for _ in range(HELD_KARP_STEPS):
         C = D + pi[:, None] + pi[None, :]
         np.fill_diagonal(C, np.inf)
-        tree, degrees = _tree_degrees(C)
+        tree, degrees = _spanning_tree(C)
         excess = degrees.astype(float)
         if tours:
             closing = np.argpartition(C[0, 1:], k - 1)[:k] if k < n else np.arange(n)
