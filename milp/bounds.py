@@ -73,9 +73,9 @@ def held_karp_makespan_bound(D: np.ndarray, k: int, *, tours: bool) -> float:
     start's, and costs :math:`c'_{ij} = d_{ij} + \pi_i + \pi_j` (:math:`\pi_0 = \lambda`),
 
     .. math::
-        	ext{length}(G) \ge 	ext{MST}(c') + \sum_{k 	ext{ smallest}} c'_{0i}
-        - 2 \sum_i \pi_i - 2k\lambda \quad	ext{(tours)}, \qquad
-        	ext{length}(G) \ge 	ext{MST}(c') - 2 \sum_i \pi_i - k\lambda \quad	ext{(paths)}.
+        \text{length}(G) \ge \text{MST}(c') + \sum_{k \text{ smallest}} c'_{0i}
+        - 2 \sum_i \pi_i - 2k\lambda \quad\text{(tours)}, \qquad
+        \text{length}(G) \ge \text{MST}(c') - 2 \sum_i \pi_i - k\lambda \quad\text{(paths)}.
 
     Every right-hand side is a bound; subgradient steps on the degrees' excess
     (:data:`HELD_KARP_STEPS` of them, a Polyak step towards :data:`HELD_KARP_AIM` x the
