@@ -3,8 +3,9 @@
 - Makespan: ``c_max`` for paths and ``2 c_max`` for tours (paper, Prop. 1), and the
   spanning-tree bound: the ``k`` routes together connect the start and every KPOI, so
   their total length is at least the minimum spanning tree's (plus, for tours, the
-  closing arcs).
-- Robots: the fewest routes within the deadline that the same argument allows, at
+  closing arcs); for 21-200 KPOIs also its Held-Karp strengthening, spanning trees under
+  Lagrangian prices on the KPOIs' degrees (:func:`milp.bounds.held_karp_makespan_bound`).
+- Robots: the fewest routes within the deadline that the same arguments allow, at
   least 1.
 
 Both are :mod:`milp.bounds`, computed on the instance's distance matrix.
