@@ -13,6 +13,9 @@ start and ``1..n`` the KPOIs. Methods:
   in :mod:`milp.columns`, its subset-row cut
   separation in :mod:`milp.cuts`, the readiness of its compiled functions in
   :mod:`milp.compiling`, its route listing in :mod:`milp.enumeration`.
+- :mod:`milp.branchcut`: branch-and-cut over a three-index model (robots' own edge
+  copies, subtour cuts separated by minimum cuts): the least makespan with few long
+  routes; :mod:`milp.race` runs it against branch-and-price in another process.
 - :mod:`milp.cvx`: the arc-flow model written in cvxpy, for reading (imported on demand,
   ``from milp import cvx``: cvxpy takes most of a second to load).
 - :mod:`milp.bounds`: spanning-tree bounds every model starts from.
@@ -30,7 +33,7 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-_SUBMODULES = ("arcflow", "bounds", "branchprice", "colgen", "cvx", "setpart")
+_SUBMODULES = ("arcflow", "bounds", "branchcut", "branchprice", "colgen", "cvx", "race", "setpart")
 # Public functions and classes -> the module defining them.
 _DEFINED_IN = {
     "ArcModel": "milp.arcflow",

@@ -3,7 +3,7 @@
 The models work on the distance matrix alone (start at index 0); this module hands
 them the matrix, a warm start, and maps their answer back to a
 :class:`~parcover.problem.Solution`, which :func:`parcover.solve` then verifies
-independently. Five methods:
+independently. Six methods:
 
 - ``exact`` (the default): ``setpart`` up to :data:`SETPART_FIRST` KPOIs (16 for the
   least makespan, 14 for the fewest robots), where it is
@@ -13,12 +13,17 @@ independently. Five methods:
   ``branchprice`` for :data:`BRANCHPRICE_FIRST` seconds, then ``setpart`` if that was
   not enough and the time left covers :func:`milp.setpart.expected_seconds`
   (``branchprice`` is often 5-50x faster there, ``setpart`` always done in 1-4 s); ``branchprice`` above, ``compact`` above its size limit;
+  for the least makespan with at most :data:`RACE_ROUTES` robots above 20 KPOIs,
+  ``branchprice`` for :data:`BRANCHPRICE_FIRST` seconds, then ``branchprice`` against
+  ``branchcut`` on two cores (:func:`_race_makespan`; one core: ``branchprice`` alone);
   on the first use after installation, when the time limit leaves no room to compile
   ``branchprice``'s pricing (:data:`milp.branchprice.COMPILE_SECONDS`), ``setpart`` to 20
   KPOIs and ``compact`` above;
 - ``branchprice``: branch-and-price over ng-routes (:mod:`milp.branchprice`); for the
   fewest robots up to :data:`ROOT_FIRST_MAX` KPOIs it starts from ``best``'s
   construction and runs ``best``'s rounds only if the root bound leaves room;
+- ``branchcut``: the least makespan by branch-and-cut over a three-index model
+  (:mod:`milp.branchcut`), strongest with 2-3 long routes;
 - ``compact``: the compact arc-flow model solved by HiGHS (:mod:`milp.arcflow`);
 - ``setpart``: Held-Karp route enumeration and set partitioning by inclusion-exclusion
   counting (:mod:`milp.setpart`), an exact method independent of the compact model,
@@ -42,7 +47,7 @@ from parcover.instance import Instance
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.result import Status
 
-__all__ = ["exact", "compact", "branch_and_price", "setpart", "cvxpy_model", "METHODS", "warm_start_routes"]
+__all__ = ["exact", "compact", "branch_and_price", "branch_and_cut", "setpart", "cvxpy_model", "METHODS", "warm_start_routes"]
 
 _STATUS = {"optimal": Status.OPTIMAL, "infeasible": Status.INFEASIBLE, "unknown": Status.UNKNOWN}
 
@@ -83,6 +88,16 @@ BRANCHPRICE_FIRST = 2.0
 #: with ``compact`` alone, without loading ``branchprice`` or ``setpart`` (importing
 #: ``branchprice`` took 0.7 s of a 3 s limit at 3000 KPOIs, 0.4 s of it numba).
 BRANCHPRICE_MAX_KPOIS = 200
+#: For the least makespan with at most this many robots above set partitioning's range,
+#: ``exact`` races these methods when ``branchprice`` has not proved the answer within
+#: :data:`BRANCHPRICE_FIRST` seconds and two cores are free (:func:`_race_makespan`).
+#: Measured (``milp/README.md``, branch-and-cut): with 2 routes at n = 22-40 each of the
+#: two proves questions in seconds that the other takes 30 s or more for (or does not
+#: prove in 60 s), and branch-and-cut proved Necula's eil51, berlin52 and eil76 with 2
+#: tours and berlin52 with 3 (18-350 s), where branch-and-price does not within 420 s;
+#: with 3 routes on random instances branch-and-price is 5-20x faster.
+RACE_ROUTES = 3
+RACE_MODELS = ("branchprice", "branchcut")
 
 
 def exact(
@@ -116,13 +131,15 @@ def exact(
             if settled is not None:
                 return settled
         return _setpart(model, instance, problem, clock, warm_start)
-    from milp import branchprice  # numba: only when needed
+    from milp import branchprice, race  # numba: only when needed
 
     if not branchprice.ready_within(clock.remaining()):
         fallback = (_setpart(model, instance, problem, clock, warm_start) if instance.n <= model.MAX_KPOIS
                     else compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start))
         return _noting_uncompiled(fallback)
     if instance.n > model.MAX_KPOIS:
+        if problem.objective == "makespan" and problem.robots <= RACE_ROUTES and race.cores() >= 2:
+            return _race_makespan(instance, problem, clock, seed, warm_start)
         return branch_and_price(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
     first = branch_and_price(instance, problem, time_limit=_share(clock, BRANCHPRICE_FIRST),
                              seed=seed, warm_start=warm_start)
@@ -131,6 +148,40 @@ def exact(
         return first
     solution = _setpart(model, instance, problem, clock, warm_start)
     return solution if _decided(solution) else first
+
+
+def _race_makespan(instance: Instance, problem: Problem, clock: Deadline, seed: int,
+                   warm_start: list[list[int]] | None) -> Solution:
+    """The least makespan with few robots: :func:`branch_and_price` for
+    :data:`BRANCHPRICE_FIRST` seconds, then, unless that proved it, ``branchprice``
+    against ``branchcut`` on two cores (:func:`milp.race.race`) for the time left, from
+    the best routes so far. ``info["model"]`` names the method whose routes are returned;
+    the bound is the larger of every method's certified bound."""
+    from milp import race
+
+    start = warm_start or warm_start_routes(instance, problem, clock, seed)
+    first = branch_and_price(instance, problem, time_limit=_share(clock, BRANCHPRICE_FIRST),
+                             seed=seed, warm_start=start)
+    left = clock.remaining()
+    if _decided(first) or (left is not None and left <= race.START_SECONDS + 1.0):
+        return first
+    answers = race.race({name: f"milp.{name}:min_makespan" for name in RACE_MODELS},
+                        (instance.distances, problem.robots),
+                        {"tours": problem.tours, "warm_start": first.routes}, left)
+    if not answers:
+        return first
+    answered = {n: a for n, a in answers.items() if a.objective is not None}
+    if not answered:
+        return first
+    name, answer = min(answered.items(), key=lambda item: item[1].objective)
+    solution = _solution(answer)
+    bounds = [b for b in [first.bound, *(a.bound for a in answers.values())] if b is not None]
+    if solution.status is None and bounds:
+        solution.bound = max(bounds)
+    solution.info["model"] = name
+    if len(answers) > 1 or solution.status is None:
+        solution.info["message"] = "; ".join(f"{n}: {a.message}" for n, a in answers.items())
+    return solution
 
 
 def _noting_uncompiled(solution: Solution) -> Solution:
@@ -183,7 +234,7 @@ def exact_models(n: int, objective: str) -> set[str]:
         return {"setpart", "bounds"}
     if n <= model.MAX_KPOIS:
         return {"branchprice", "setpart"}
-    return {"branchprice", "compact"}
+    return {"branchprice", "compact"} | ({"branchcut"} if objective == "makespan" else set())
 
 
 def _decided(solution: Solution) -> bool:
@@ -250,6 +301,26 @@ def branch_and_price(
     return _warm_started(branchprice, "branchprice", instance, problem, clock, seed, warm_start, **options)
 
 
+def branch_and_cut(
+    instance: Instance,
+    problem: Problem,
+    *,
+    time_limit: TimeLimit = None,
+    seed: int = 0,
+    warm_start: list[list[int]] | None = None,
+) -> Solution:
+    """Proven least makespan by branch-and-cut over a three-index model
+    (:mod:`milp.branchcut`; for few long routes). ``warm_start`` as :func:`compact`."""
+    clock = Deadline.of(time_limit)
+    from milp import branchcut
+
+    if problem.objective != "makespan":
+        raise InputError("Method 'branchcut' answers the least makespan only (--robots K); "
+                         "use exact or branchprice for the fewest robots.")
+    _check_size(instance, branchcut.MAX_KPOIS, "branchcut")
+    return _warm_started(branchcut, "branchcut", instance, problem, clock, seed, warm_start)
+
+
 def _check_size(instance: Instance, most: int, method: str) -> None:
     """Refuse an instance above a method's size limit with one line."""
     if instance.n > most:
@@ -272,7 +343,7 @@ def _warm_started(
     ``time_limit``. ``options`` go to the model; ``info["model"]`` is ``name``."""
     clock = Deadline.of(time_limit)
     start = warm_start or warm_start_routes(instance, problem, clock, seed)
-    solution = _run(model.min_makespan, model.min_robots, instance, problem, clock,
+    solution = _run(model.min_makespan, getattr(model, "min_robots", None), instance, problem, clock,
                     warm_start=start, **options)
     solution.info["model"] = name
     return solution
@@ -359,6 +430,11 @@ def _run(
     else:
         deadline = problem.effective_deadline(instance)
         answer = min_robots(d, deadline, tours=problem.tours, time_limit=time_limit, **kwargs)
+    return _solution(answer)
+
+
+def _solution(answer: Any) -> Solution:
+    """A model's :class:`milp.result.MilpResult` as a Solution."""
     return Solution(
         routes=[list(r) for r in answer.routes],
         bound=answer.bound,
@@ -375,6 +451,8 @@ METHODS = (
     MethodInfo("branchprice", branch_and_price,
                "proven optimum: branch-and-price over ng-routes (column generation, arc branching)",
                ("warm_start",)),
+    MethodInfo("branchcut", branch_and_cut,
+               "proven least makespan: three-index branch-and-cut (few long routes)", ("warm_start",)),
     MethodInfo("setpart", setpart, "proven optimum: Held-Karp routes + counting set partitions (n <= 20)"),
     MethodInfo("cvxpy", cvxpy_model, "proven optimum: the compact model written in cvxpy (slow, for reading)"),
 )

@@ -131,3 +131,33 @@ def test_warm_start_takes_a_results_routes_and_refuses_bad_ones():
     # within a deadline: a route above it is refused
     with pytest.raises(InputError, match="above the deadline"):
         solve(instance, "tours", deadline=2 * instance.c_max, method="compact", warm_start=[kpois])
+
+
+def test_exact_races_branch_and_cut_for_two_long_tours():
+    """22 KPOIs, 2 tours: branch-and-price alone took 2.5 s and more on this one in a
+    loaded run (timing-dependent), so exact may race it against branch-and-cut (on two
+    cores); the answer is proven, names its method, and equals both methods' optimum."""
+    from milp import race
+
+    instance = generate.random_points(22, 26)
+    result = solve(instance, "tours", robots=2, time_limit=120)
+    assert result.status is Status.OPTIMAL
+    assert result.info["model"] in (("branchprice", "branchcut") if race.cores() >= 2 else ("branchprice",))
+    for method in ("branchcut", "branchprice"):
+        alone = solve(instance, "tours", robots=2, method=method, time_limit=120)
+        assert alone.status is Status.OPTIMAL and result.value == pytest.approx(alone.value, rel=1e-6)
+    assert alone.status is Status.OPTIMAL and result.value == pytest.approx(alone.value, rel=1e-6)
+
+
+def test_exact_races_within_its_time_limit():
+    # 60 KPOIs, 2 tours: unproven in 6 s; the race and the first branch-and-price share it
+    instance = generate.random_points(60, 3)
+    started = time.perf_counter()
+    result = solve(instance, "tours", robots=2, time_limit=6)
+    assert time.perf_counter() - started < 6 * 1.1
+    assert result.status is Status.FEASIBLE and result.bound < result.value
+
+
+def test_branchcut_answers_the_least_makespan_only():
+    with pytest.raises(InputError, match="least makespan only"):
+        solve(generate.random_points(8, 1), "tours", deadline=500, method="branchcut")
