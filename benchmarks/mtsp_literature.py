@@ -6,7 +6,8 @@ Breaban and Raschip, ICTAI 2015). Each cell gets the issue's 10 minutes:
 
 - our value and the exact method's bound: ``parcover.solve(..., method="best")`` for
   :data:`BEST_SECONDS`, then ``parcover.solve(..., method="exact")`` from its tours (at
-  these sizes branch-and-price, :mod:`milp.branchprice`) with :data:`EXACT_SECONDS`
+  these sizes branch-and-price, :mod:`milp.branchprice`, raced against branch-and-cut,
+  :mod:`milp.branchcut`, with 2 and 3 tours) with :data:`EXACT_SECONDS`
   (exact's own warm start, 200 rounds of ``best``, is far weaker on routes of 25-50
   KPOIs: berlin52 m = 2 4342.6 against 4110.2 after 60 s of ``best``);
 - our certified lower bound: the largest of that bound, ``2 c_max``, the spanning-tree
@@ -132,7 +133,8 @@ def run(config: Config) -> Section:
         "Euclidean distances, node 1 the start). `value` and `exact bound`: "
         f"`parcover.solve(method=\"exact\")` with {exact_s:g} s from the tours of "
         f"`parcover.solve(method=\"best\")` with {best_s:g} s (`model`: the method that "
-        "answered, branch-and-price at these sizes); `bound`: our "
+        "answered: branch-and-price, or with 2 and 3 tours whichever of branch-and-price and "
+        "branch-and-cut (`milp.branchcut`, raced on the two cores) proved first); `bound`: our "
         "certified lower bound, the largest of `2 c_max`, the `tree bound` (the spanning-tree and "
         "Held-Karp bounds of `milp.bounds.makespan_lower_bound`), the exact "
         "method's bound and, for a cell not yet proven, the column-generation bound "
