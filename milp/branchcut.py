@@ -101,7 +101,7 @@ class _Model:
         self.n, self.k, self.tours, self.D = n, k, tours, D
         self.sink = n + 1  # paths only
         order = np.argsort(-D[0, 1:], kind="stable") + 1
-        self.rank = np.empty(n + 1, dtype=np.int64)
+        self.rank = np.full(n + 1, -1, dtype=np.int64)  # distance rank of each KPOI (0: farthest)
         self.rank[order] = np.arange(n)
         self.edges = _edges(D, tours=tours, upper=upper)
         E, K = len(self.edges), k
