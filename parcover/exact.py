@@ -13,7 +13,8 @@ independently. Six methods:
   ``branchprice`` for :data:`BRANCHPRICE_FIRST` seconds, then ``setpart`` if that was
   not enough and the time left covers :func:`milp.setpart.expected_seconds`
   (``branchprice`` is often 5-50x faster there, ``setpart`` always done in 1-4 s); ``branchprice`` above, ``compact`` above its size limit;
-  for the least makespan with at most :data:`RACE_ROUTES` robots above 20 KPOIs,
+  for the least makespan with at most :data:`RACE_ROUTES` robots on 21 to
+  :data:`RACE_MAX_KPOIS` KPOIs,
   ``branchprice`` for :data:`BRANCHPRICE_FIRST` seconds, then ``branchprice`` against
   ``branchcut`` on two cores (:func:`_race_makespan`; one core: ``branchprice`` alone);
   on the first use after installation, when the time limit leaves no room to compile
@@ -98,6 +99,8 @@ BRANCHPRICE_MAX_KPOIS = 200
 #: with 3 routes on random instances branch-and-price is 5-20x faster.
 RACE_ROUTES = 3
 RACE_MODELS = ("branchprice", "branchcut")
+#: :data:`milp.branchcut.MAX_KPOIS` (not imported, as for branch-and-price).
+RACE_MAX_KPOIS = 100
 
 
 def exact(
@@ -138,7 +141,8 @@ def exact(
                     else compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start))
         return _noting_uncompiled(fallback)
     if instance.n > model.MAX_KPOIS:
-        if problem.objective == "makespan" and problem.robots <= RACE_ROUTES and race.cores() >= 2:
+        if (problem.objective == "makespan" and problem.robots <= RACE_ROUTES and instance.n <= RACE_MAX_KPOIS
+                and race.cores() >= 2):
             return _race_makespan(instance, problem, clock, seed, warm_start)
         return branch_and_price(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
     first = branch_and_price(instance, problem, time_limit=_share(clock, BRANCHPRICE_FIRST),

@@ -161,3 +161,11 @@ def test_exact_races_within_its_time_limit():
 def test_branchcut_answers_the_least_makespan_only():
     with pytest.raises(InputError, match="least makespan only"):
         solve(generate.random_points(8, 1), "tours", deadline=500, method="branchcut")
+
+
+def test_branchcut_refuses_more_than_its_kpois():
+    from milp import branchcut
+
+    instance = generate.random_points(branchcut.MAX_KPOIS + 1, 1)
+    with pytest.raises(InputError, match="at most 100 KPOIs"):
+        solve(instance, "tours", robots=2, method="branchcut", time_limit=5)
