@@ -2,12 +2,14 @@
 
 Section 1 of the benchmarks issue. On random Euclidean instances
 (:func:`benchmarks.common.euclidean_points`) it runs, side by side in the same process
-run, branch-and-price and the compact arc-flow model as ``parcover``'s ``branchprice`` and
-``compact`` methods run them (warm start from ``best``,
+run, ``parcover``'s default ``exact`` (:func:`parcover.exact.exact`: above 20 KPOIs
+branch-and-price, raced against branch-and-cut for the least makespan with 2-3 robots),
+branch-and-price alone up to 20 KPOIs and the compact arc-flow model as ``parcover``'s
+``branchprice`` and ``compact`` methods run them (warm start from ``best``,
 :func:`parcover.exact.branch_and_price`, :func:`parcover.exact.compact`), set partitioning (:mod:`milp.setpart`,
 small ``n``), the naive big-M MTZ and plain arc-flow models
 (:mod:`benchmarks.naive_models`) and OR-Tools CP-SAT (:mod:`benchmarks.peers.cpsat`, in a
-subprocess). Ratios: a peer's time over ours (:func:`ours`); when the peer does not
+subprocess). Ratios: a peer's time over ours (:data:`OURS`); when the peer does not
 prove within its limit ``L`` the ratio is a lower bound ``>= L / our time`` (shown
 with ``>=``), and when ours does not prove either no ratio is given.
 """
@@ -54,11 +56,8 @@ def time_limit(n: int) -> float:
     return 60.0 if n == 30 else 30.0 if n == 25 else 20.0
 
 
-def ours(n: int) -> str:
-    """What ``parcover``'s default ``exact`` method runs at ``n`` KPOIs: ``exact`` itself
-    up to :data:`SETPART_MAX`, where it chooses among checks and models, and
-    ``branchprice`` above, which is all it runs there (the same call, not run twice)."""
-    return "exact" if n <= SETPART_MAX else "branchprice"
+#: Ours: ``parcover``'s default method at every size (it chooses among checks and models).
+OURS = "exact"
 
 
 def grid(quick: bool) -> list[dict]:
@@ -81,9 +80,9 @@ def grid(quick: bool) -> list[dict]:
             for objective, value in PROBLEMS:
                 seeds = SEEDS if (routes, objective, value) in TARGET_PROBLEMS else SEEDS[:1]
                 for seed in seeds:
-                    models = ["branchprice", "compact"]
+                    models = ["exact", "compact"]
                     if n <= SETPART_MAX:
-                        models += ["exact", "setpart"]
+                        models += ["branchprice", "setpart"]
                     if n <= 20 or (n <= CPSAT_MAX and seed == SEEDS[0]):
                         models.append("cpsat")
                     if n in NAIVE_SIZES and seed == SEEDS[0] and (routes, objective, value) in NAIVE_PROBLEMS:
@@ -203,7 +202,9 @@ def run(config: Config) -> Section:
                  "arc-flow model gets 120 s at n = 20 (k = 3 paths), for the '>= 20x' target.")
     markdown = "\n\n".join([
         "Random Euclidean instances (start and n KPOIs uniform in a 100 x 100 square, seeded), "
-        "solved in the same run by branch-and-price over ng-routes and the compact arc-flow model "
+        "solved in the same run by `parcover`'s default `exact` (above 20 KPOIs branch-and-price over "
+        "ng-routes, raced against branch-and-cut, `milp.branchcut`, for the least makespan with 2-3 "
+        "robots), branch-and-price alone up to 20 KPOIs and the compact arc-flow model "
         "as `parcover solve --method branchprice` / `--method compact` run them (`milp.branchprice`; "
         "`milp.arcflow`: pruning, column-generation bound, its own heuristics; both with "
         f"a warm start from `best`, {parcover_exact.WARM_ROUNDS['makespan']} rounds for the "
@@ -244,7 +245,7 @@ def ratio_table(frame: pd.DataFrame) -> pd.DataFrame:
     out = []
     for key, cell in frame.groupby(["n", "seed", "routes", "problem"], sort=False):
         by_model = {r["model"]: r for r in cell.to_dict("records")}
-        mine = by_model.get(ours(int(key[0])))
+        mine = by_model.get(OURS)
         if mine is None:
             continue
         row = dict(zip(("n", "seed", "routes", "problem"), key))
@@ -317,7 +318,7 @@ def _plain_target(ratios: pd.DataFrame) -> str:
 def _n30_target(frame: pd.DataFrame) -> str:
     """n = 30, k = 3, paths and tours, proven within 60 s on every seed (the exact
     issue's target); then, for information, how many of all n = 30 cells were."""
-    ours30 = frame[(frame["n"] == 30) & (frame["model"] == ours(30))]
+    ours30 = frame[(frame["n"] == 30) & (frame["model"] == OURS)]
     if ours30.empty:
         return "exact: n = 30, k = 3 proven within 60 s: not measured"
     k3 = ours30[ours30["problem"] == "makespan k=3"]
@@ -331,14 +332,14 @@ def _n30_target(frame: pd.DataFrame) -> str:
 
 def _n40_target(frame: pd.DataFrame) -> str:
     """n = 40, k = 5, paths and tours, proven within 60 s."""
-    cells = frame[(frame["n"] == 40) & (frame["problem"] == "makespan k=5") & (frame["model"] == ours(40))]
+    cells = frame[(frame["n"] == 40) & (frame["problem"] == "makespan k=5") & (frame["model"] == OURS)]
     return _cells_target(cells, "n = 40, k = 5 proven within 60 s", 60,
                          lambda r: f"{r.routes} seed {r.seed}")
 
 
 def _robots50_target(frame: pd.DataFrame) -> str:
     """Fewest robots for n = 50 within 10 s, on every n = 50 robots cell."""
-    cells = frame[(frame["n"] == 50) & frame["problem"].str.startswith("robots") & (frame["model"] == ours(50))]
+    cells = frame[(frame["n"] == 50) & frame["problem"].str.startswith("robots") & (frame["model"] == OURS)]
     return _cells_target(cells, "fewest robots for n = 50 within 10 s", 10,
                          lambda r: f"{r.routes} {r.problem.removeprefix('robots ')} seed {r.seed}")
 

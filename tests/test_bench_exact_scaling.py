@@ -105,7 +105,7 @@ def test_quick_section_on_tiny_grid(tmp_path, monkeypatch) -> None:
     ratios = section.tables["exact_scaling_ratios"]
     compact = frame[frame["model"] == "compact"].set_index("problem")["seconds"]
     exact_s = frame[frame["model"] == "exact"].set_index("problem")["seconds"]
-    for row in ratios.to_dict("records"):  # ours is parcover's exact up to 20 KPOIs
+    for row in ratios.to_dict("records"):  # ours is parcover's exact
         assert row["ours"] == "exact" and row["exact / ours"] == "-"
         expected = compact[row["problem"]] / max(exact_s[row["problem"]], 1e-3)
         assert row["compact / ours"] == f"{expected:.3g}"
@@ -117,7 +117,7 @@ def test_full_grid_covers_the_issue() -> None:
     cells = exact_scaling.grid(quick=False)
     assert {c["n"] for c in cells} == {10, 15, 20, 25, 30, 40, 50}
     for routes in ("paths", "tours"):  # the n = 30 target names every seed, paths and tours
-        k3 = [c for c in cells if c["routes"] == routes and c["k"] == 3 and "branchprice" in c["models"]]
+        k3 = [c for c in cells if c["routes"] == routes and c["k"] == 3 and "exact" in c["models"]]
         assert sorted((c["n"], c["seed"]) for c in k3) == [(n, s) for n in exact_scaling.SIZES for s in (1, 2, 3)]
     for routes in ("paths", "tours"):
         for k, factor in ((2, None), (3, None), (5, None), (None, 1.0), (None, 1.2)):

@@ -19,7 +19,7 @@ def test_quick_run_reports_every_cell_and_a_line_per_target(tmp_path):
 
 def test_a_target_is_met_only_when_every_cell_is_proven_in_time():
     rows = [dict(n=30, problem="makespan k=3", limit=60.0, seeds="unseen", seed=s, routes="paths",
-                 model="branchprice", status=status, objective=1.0, bound=b, seconds=t)
+                 model="exact", status=status, objective=1.0, bound=b, seconds=t)
             for s, status, b, t in ((11, "optimal", 1.0, 5.0), (12, "feasible", 0.9, 60.0))]
     line, = exact_targets._target_lines(pd.DataFrame(rows))
     assert "not met (1/2 cells)" in line and "seed 12: feasible" in line
