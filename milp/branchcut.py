@@ -78,8 +78,8 @@ import numpy as np
 
 from milp.bounds import makespan_lower_bound
 from milp.highs import BOUND_SLACK, new_highs
-from milp.merge import Merged, merge_zero_distances
-from milp.result import MilpResult, relative_gap
+from milp.merge import checked_start, merge_zero_distances, model_result
+from milp.result import MilpResult
 from milp.routes import check_distance_matrix, makespan
 
 __all__ = ["min_makespan", "MAX_KPOIS", "ROOT_SHARE"]
@@ -321,15 +321,15 @@ def min_makespan(
     if merged.size > MAX_KPOIS:
         raise ValueError(f"branch-and-cut handles at most {MAX_KPOIS} KPOIs")
     if merged.size == 0:
-        return _answer("optimal", merged, [], 0.0, 0.0, 0, began, "every KPOI at the start")
+        return model_result("optimal", merged, D, [], 0.0, 0.0, 0, began, "every KPOI at the start")
     M = merged.D
-    routes = _start(merged, D, warm_start, k)
+    routes = checked_start(merged, D, warm_start, tours=tours, deadline=None, k=k)
     if routes is None:
         routes = split_min_makespan(M, nearest_neighbour_order(M), k, tours=tours)
     value = makespan(M, routes, tours=tours)
     lower = makespan_lower_bound(M, k, tours=tours)
     if value <= lower * (1 + 1e-9):
-        return _answer("optimal", merged, routes, value, value, 0, began, "warm start meets the lower bound")
+        return model_result("optimal", merged, D, routes, value, value, 0, began, "warm start meets the lower bound")
     stop_at = math.inf if time_limit is None else began + time_limit
     model = _Model(M, min(k, merged.size), tours=tours, lower=lower, upper=value)
     h = model.h
@@ -368,29 +368,13 @@ def min_makespan(
             routes, value = found, makespan(M, found, tours=tours)
         if h.getModelStatus() == highspy.HighsModelStatus.kOptimal:
             assert lower <= value * (1 + 1e-9) + BOUND_SLACK, (lower, value)
-            return _answer("optimal", merged, routes, value, value, nodes, began,
+            return model_result("optimal", merged, D, routes, value, value, nodes, began,
                            f"branch-and-cut: optimum without subtours ({mips} MIPs, {model.cuts} cuts)")
     lower = min(lower, value)
-    return _answer("feasible", merged, routes, value, lower, nodes, began,
+    return model_result("feasible", merged, D, routes, value, lower, nodes, began,
                    f"time limit ({mips} MIPs, {model.cuts} cuts)")
 
 
 def _set_time(h: highspy.Highs, until: float) -> None:
     left = until - time.perf_counter()
     h.setOptionValue("time_limit", float(max(left, 1e-3)) if math.isfinite(left) else _INF)
-
-
-def _start(merged: Merged, D: np.ndarray, routes: list[list[int]] | None, k: int) -> list[list[int]] | None:
-    """The warm start in merged indices when it covers every KPOI with at most ``k``
-    routes, else None."""
-    if not routes or sorted(i for r in routes for i in r) != list(range(1, len(D))):
-        return None
-    reduced = merged.reduce(routes)
-    return reduced if len(reduced) <= k else None
-
-
-def _answer(status: str, merged: Merged, routes: list[list[int]], objective: float, bound: float,
-            nodes: int, began: float, message: str) -> MilpResult:
-    gap = 0.0 if status == "optimal" else relative_gap(objective, bound)
-    return MilpResult(status, merged.expand(routes), objective, bound, gap, nodes,
-                      time.perf_counter() - began, message)

@@ -111,10 +111,10 @@ from milp.columns import Node, Pool
 from milp.compiling import COMPILE_SECONDS, compile_rarely_used, ready_within
 from milp.cuts import cut_memory, popcount, violated_triples
 from milp.highs import make_lp, new_highs
-from milp.merge import Merged, merge_zero_distances
-from milp.result import MilpResult, relative_gap
+from milp.merge import Merged, checked_start, merge_zero_distances, model_result
+from milp.result import MilpResult
 from milp.tree import ROUND, Decision, Improve, Settled, rounded_up
-from milp.routes import check_distance_matrix, first_visits, least_makespan, makespan, route_cost, within
+from milp.routes import check_distance_matrix, first_visits, least_makespan, makespan
 from milp.warmstart import nearest_neighbour_order, split_min_makespan
 
 __all__ = ["min_robots", "min_makespan", "ready_within", "compile_pricing", "MAX_KPOIS", "COMPILE_SECONDS"]
@@ -645,34 +645,6 @@ def _prepare(D: np.ndarray) -> tuple[np.ndarray, Merged]:
     return D, merged
 
 
-def _checked_start(merged: Merged, D: np.ndarray, routes: list[list[int]] | None, *,
-                   tours: bool, deadline: float | None, k: int | None) -> list[list[int]] | None:
-    """The warm start in merged indices when it is valid for the question, else None."""
-    if not routes:
-        return None
-    covered = sorted(i for r in routes for i in r)
-    if covered != list(range(1, len(D))):
-        return None
-    reduced = merged.reduce(routes)
-    if deadline is not None and not all(within(route_cost(merged.D, r, tours=tours), deadline)
-                                        for r in reduced):
-        return None
-    if k is not None and len(reduced) > k:
-        return None
-    return reduced
-
-
-def _result(status: str, merged: Merged, D: np.ndarray, routes: list[list[int]] | None,
-            objective: float | None, bound: float | None, nodes: int, began: float,
-            message: str) -> MilpResult:
-    expanded = merged.expand(routes) if routes is not None else []
-    gap = relative_gap(objective, bound)
-    if status == "optimal":
-        bound, gap = objective, 0.0
-    return MilpResult(status, expanded, objective, bound, gap, nodes,
-                      time.perf_counter() - began, message)
-
-
 def min_robots(
     D: np.ndarray, deadline: float, *, tours: bool, time_limit: float | None = None,
     warm_start: list[list[int]] | None = None, improve: Improve | None = None,
@@ -708,25 +680,25 @@ def min_robots(
         return MilpResult("infeasible", seconds=time.perf_counter() - began,
                           message="deadline below the least makespan")
     if merged.size == 0:
-        return _result("optimal", merged, D, [], 1.0, 1.0, 0, began, "every KPOI at the start")
+        return model_result("optimal", merged, D, [], 1.0, 1.0, 0, began, "every KPOI at the start")
     budget = deadline * (1 + 1e-9) + 1e-9
     stop_at = None if time_limit is None else began + time_limit
     search = _Search(merged.D, tours=tours, stop_at=stop_at)
-    start = _checked_start(merged, D, warm_start, tours=tours, deadline=deadline, k=None)
+    start = checked_start(merged, D, warm_start, tours=tours, deadline=deadline, k=None)
     if start is None:
         start = [[j] for j in range(1, merged.size + 1)]
     trivial = tree_robots_bound(merged.D, deadline, tours=tours)
     if len(start) <= trivial:
-        return _result("optimal", merged, D, start, len(start), len(start), 0, began,
+        return model_result("optimal", merged, D, start, len(start), len(start), 0, began,
                        "warm start meets the spanning-tree bound")
     better = None if improve is None else (
-        lambda floor: _checked_start(merged, D, improve(floor), tours=tours, deadline=deadline, k=None))
+        lambda floor: checked_start(merged, D, improve(floor), tours=tours, deadline=deadline, k=None))
     routes, root, outcome = search.fewest_routes(budget, start, len(start) - 1, first=False, improve=better)
     bound = max(trivial, root or 1)
     if outcome == "exhausted" or len(routes) <= bound:
-        return _result("optimal", merged, D, routes, len(routes), len(routes), search.nodes, began,
+        return model_result("optimal", merged, D, routes, len(routes), len(routes), search.nodes, began,
                        "branch-and-price tree closed")
-    return _result("feasible", merged, D, routes, len(routes), bound, search.nodes, began,
+    return model_result("feasible", merged, D, routes, len(routes), bound, search.nodes, began,
                    "time limit" if search.out_of_time() else "a node could not be branched on")
 
 
@@ -750,37 +722,37 @@ def min_makespan(
         raise ValueError("k must be at least 1")
     D, merged = _prepare(D)
     if merged.size == 0:
-        return _result("optimal", merged, D, [], 0.0, 0.0, 0, began, "every KPOI at the start")
+        return model_result("optimal", merged, D, [], 0.0, 0.0, 0, began, "every KPOI at the start")
     stop_at = None if time_limit is None else began + time_limit
     lower = max(least_makespan(D, tours=tours), tree_makespan_bound(merged.D, k, tours=tours))
-    routes = _checked_start(merged, D, warm_start, tours=tours, deadline=None, k=k)
+    routes = checked_start(merged, D, warm_start, tours=tours, deadline=None, k=k)
     if routes is None:
         routes = split_min_makespan(merged.D, nearest_neighbour_order(merged.D), k, tours=tours)
     value = makespan(merged.D, routes, tours=tours)
     search = _Search(merged.D, tours=tours, stop_at=stop_at)
     if value <= lower * (1 + 1e-9):
-        return _result("optimal", merged, D, routes, value, value, 0, began,
+        return model_result("optimal", merged, D, routes, value, value, 0, began,
                        "warm start meets the lower bound")
     lower = search.makespan_bound = _makespan_lp_bound(
         search, k, lower, value, None if time_limit is None else began + BISECTION_SHARE * time_limit)
     search.stop_at = stop_at
     while not search.out_of_time():
         if value <= lower * (1 + 1e-9):
-            return _result("optimal", merged, D, routes, value, value, search.nodes, began,
+            return model_result("optimal", merged, D, routes, value, value, search.nodes, began,
                            "lower bound reached")
         budget = value * (1 - STRICT)
         found, _, outcome = search.fewest_routes(budget, None, k, first=True)
         if outcome == "least":
-            return _result("optimal", merged, D, found, makespan(merged.D, found, tours=tours), lower,
+            return model_result("optimal", merged, D, found, makespan(merged.D, found, tours=tours), lower,
                            search.nodes, began, "least makespan over the routes enumerated at the root")
         if outcome == "found":
             routes, value = found, makespan(merged.D, found, tours=tours)
             continue
         if outcome == "exhausted":
-            return _result("optimal", merged, D, routes, value, value, search.nodes, began,
+            return model_result("optimal", merged, D, routes, value, value, search.nodes, began,
                            "no solution within (1 - 1e-9) x the makespan")
         break
-    return _result("feasible", merged, D, routes, value, lower, search.nodes, began,
+    return model_result("feasible", merged, D, routes, value, lower, search.nodes, began,
                    "time limit" if search.out_of_time() else "a node could not be branched on")
 
 

@@ -12,11 +12,15 @@ put at the front of any route at no cost (``0 -> s -> i`` costs ``D[s, i] = D[0,
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import connected_components
+
+from milp.result import MilpResult, relative_gap
+from milp.routes import route_cost, within
 
 #: Distances at most ``ZERO * max(1, D.max())`` are treated as 0.
 ZERO = 1e-12
@@ -98,3 +102,34 @@ def merge_zero_distances(D: np.ndarray) -> Merged:
     keep = [0] + [g[0] for g in members]
     # a copy either way; a plain one is 4x faster than indexing (measured at 3000 KPOIs)
     return Merged(D.copy() if len(keep) == len(D) else D[np.ix_(keep, keep)], members, at_start)
+
+
+def checked_start(merged: Merged, D: np.ndarray, routes: list[list[int]] | None, *,
+                   tours: bool, deadline: float | None, k: int | None) -> list[list[int]] | None:
+    """The warm start in merged indices when it covers every KPOI (within ``deadline`` and
+    with at most ``k`` routes, when given), else None."""
+    if not routes:
+        return None
+    covered = sorted(i for r in routes for i in r)
+    if covered != list(range(1, len(D))):
+        return None
+    reduced = merged.reduce(routes)
+    if deadline is not None and not all(within(route_cost(merged.D, r, tours=tours), deadline)
+                                        for r in reduced):
+        return None
+    if k is not None and len(reduced) > k:
+        return None
+    return reduced
+
+
+def model_result(status: str, merged: Merged, D: np.ndarray, routes: list[list[int]] | None,
+                 objective: float | None, bound: float | None, nodes: int, began: float,
+                 message: str) -> MilpResult:
+    """A model's answer over merged indices as a :class:`~milp.result.MilpResult` over the
+    original KPOIs (an optimal answer's bound is its objective, its gap 0)."""
+    expanded = merged.expand(routes) if routes is not None else []
+    gap = relative_gap(objective, bound)
+    if status == "optimal":
+        bound, gap = objective, 0.0
+    return MilpResult(status, expanded, objective, bound, gap, nodes,
+                      time.perf_counter() - began, message)
