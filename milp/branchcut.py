@@ -69,6 +69,7 @@ faster. Necula's cells with 2 tours, 420 s: eil51 optimal in 22.7 s and berlin52
 
 from __future__ import annotations
 
+import logging
 import math
 import time
 
@@ -81,6 +82,8 @@ from milp.highs import BOUND_SLACK, new_highs
 from milp.merge import checked_start, merge_zero_distances, model_result
 from milp.result import MilpResult
 from milp.routes import check_distance_matrix, makespan
+
+log = logging.getLogger(__name__)
 
 __all__ = ["min_makespan", "MAX_KPOIS", "ROOT_SHARE"]
 
@@ -342,6 +345,7 @@ def min_makespan(
         lower = max(lower, h.getInfo().objective_function_value)
         if model.separate(np.asarray(h.getSolution().col_value), integral=False) == 0:
             break
+    log.info("branch-and-cut: makespan %.6g from the warm start, root bound %.6g", value, lower)
     h.changeColsIntegrality(len(model.integer), model.integer,
                             np.full(len(model.integer), highspy.HighsVarType.kInteger))
     mips, nodes = 0, 0
@@ -358,6 +362,7 @@ def min_makespan(
         nodes += int(info.mip_node_count)
         if math.isfinite(info.mip_dual_bound):
             lower = max(lower, float(info.mip_dual_bound))
+        log.info("branch-and-cut: MIP %d, bound %.6g, %d nodes", mips, lower, nodes)
         if info.primal_solution_status != 2:  # no solution: time limit
             break
         values = np.asarray(h.getSolution().col_value)

@@ -96,6 +96,7 @@ small), computed first with a share of the time limit.
 
 from __future__ import annotations
 
+import logging
 import math
 import time
 from dataclasses import dataclass
@@ -116,6 +117,8 @@ from milp.result import MilpResult
 from milp.tree import ROUND, Decision, Improve, Settled, rounded_up
 from milp.routes import check_distance_matrix, first_visits, least_makespan, makespan
 from milp.warmstart import nearest_neighbour_order, split_min_makespan
+
+log = logging.getLogger(__name__)
 
 __all__ = ["min_robots", "min_makespan", "ready_within", "compile_pricing", "MAX_KPOIS", "COMPILE_SECONDS"]
 
@@ -691,6 +694,7 @@ def min_robots(
     if len(start) <= trivial:
         return model_result("optimal", merged, D, start, len(start), len(start), 0, began,
                        "warm start meets the spanning-tree bound")
+    log.info("branch-and-price: %d routes from the warm start, bound %d", len(start), trivial)
     better = None if improve is None else (
         lambda floor: checked_start(merged, D, improve(floor), tours=tours, deadline=deadline, k=None))
     routes, root, outcome = search.fewest_routes(budget, start, len(start) - 1, first=False, improve=better)
@@ -733,8 +737,11 @@ def min_makespan(
     if value <= lower * (1 + 1e-9):
         return model_result("optimal", merged, D, routes, value, value, 0, began,
                        "warm start meets the lower bound")
+    log.info("branch-and-price: makespan %.6g from the warm start, bound %.6g (gap %s)", value, lower,
+             _gap(value, lower))
     lower = search.makespan_bound = _makespan_lp_bound(
         search, k, lower, value, None if time_limit is None else began + BISECTION_SHARE * time_limit)
+    log.info("branch-and-price: root LP bound %.6g (gap %s)", lower, _gap(value, lower))
     search.stop_at = stop_at
     while not search.out_of_time():
         if value <= lower * (1 + 1e-9):
@@ -747,6 +754,8 @@ def min_makespan(
                            search.nodes, began, "least makespan over the routes enumerated at the root")
         if outcome == "found":
             routes, value = found, makespan(merged.D, found, tours=tours)
+            log.info("branch-and-price: makespan %.6g, bound %.6g (gap %s), %d nodes", value, lower,
+                     _gap(value, lower), search.nodes)
             continue
         if outcome == "exhausted":
             return model_result("optimal", merged, D, routes, value, value, search.nodes, began,
@@ -754,6 +763,11 @@ def min_makespan(
         break
     return model_result("feasible", merged, D, routes, value, lower, search.nodes, began,
                    "time limit" if search.out_of_time() else "a node could not be branched on")
+
+
+def _gap(value: float, bound: float) -> str:
+    """The relative gap in percent, for the log."""
+    return f"{100 * (value - bound) / value:.2f}%" if value > 0 else "0%"
 
 
 def _makespan_lp_bound(search: _Search, k: int, lower: float, upper: float, until: float | None) -> float:

@@ -14,6 +14,7 @@ answered, or when the time is up.
 from __future__ import annotations
 
 import importlib
+import logging
 import os
 import pickle
 import selectors
@@ -23,6 +24,7 @@ import tempfile
 import time
 from typing import Any
 
+from milp import progress
 from milp.result import MilpResult
 
 __all__ = ["race", "cores", "START_SECONDS"]
@@ -30,6 +32,8 @@ __all__ = ["race", "cores", "START_SECONDS"]
 #: Seconds kept back from an entrant's time limit for starting its interpreter (imports:
 #: 0.5-0.8 s measured) and sending its answer back.
 START_SECONDS = 1.5
+log = logging.getLogger(__name__)
+
 #: Seconds the race waits past the time limit for an answer before stopping an entrant.
 GRACE_SECONDS = 1.0
 
@@ -74,8 +78,16 @@ def race(entrants: dict[str, str], args: tuple, kwargs: dict[str, Any],
     try:
         for name, target in entrants.items():
             errors[name] = tempfile.TemporaryFile()
-            process = subprocess.Popen([sys.executable, "-m", "milp.race"], stdin=subprocess.PIPE,
-                                       stdout=subprocess.PIPE, stderr=errors[name])
+            environment, log_fd = progress.entrant_environment(name)
+            try:
+                process = subprocess.Popen([sys.executable, "-m", "milp.race"], stdin=subprocess.PIPE,
+                                           stdout=subprocess.PIPE, stderr=errors[name], env=environment,
+                                           pass_fds=() if log_fd is None else (log_fd,))
+            finally:
+                if log_fd is not None:
+                    os.close(log_fd)
+            log.info("race: %s started (pid %d, %s)", name, process.pid,
+                     "no time limit" if limit is None else f"{limit:.1f} s")
             process.stdin.write(pickle.dumps((target, args, {**kwargs, "time_limit": limit})))
             process.stdin.close()
             running[name] = process
@@ -98,7 +110,11 @@ def race(entrants: dict[str, str], args: tuple, kwargs: dict[str, Any],
                     errors[name].seek(0)
                     raise RuntimeError(f"{name} failed: {errors[name].read().decode(errors='replace')[-2000:]}")
                 answer = pickle.loads(output[name])
+                log.info("race: %s answered %s, value %s, bound %s", name, answer.status,
+                         _number(answer.objective), _number(answer.bound))
                 if answer.status in ("optimal", "infeasible"):
+                    if running:
+                        log.info("race: %s proved it; stopping %s", name, ", ".join(running))
                     return {name: answer}
                 answers[name] = answer
     finally:
@@ -111,10 +127,15 @@ def race(entrants: dict[str, str], args: tuple, kwargs: dict[str, Any],
     return answers
 
 
+def _number(value: float | None) -> str:
+    return "none" if value is None else f"{value:.6g}"
+
+
 def _main() -> None:
     """Entrant: read ``(target, args, kwargs)`` pickled from stdin, write the answer pickled
     to stdout (the solvers' own output, if any, goes to stderr)."""
     target, args, kwargs = pickle.load(sys.stdin.buffer)
+    progress.log_as_entrant()
     answer_fd = os.dup(1)
     os.dup2(2, 1)
     module, function = target.split(":")

@@ -49,6 +49,7 @@ explicitly, so no zero-length cycle can stand in for a route.
 
 from __future__ import annotations
 
+import logging
 import math
 import time
 
@@ -59,6 +60,8 @@ from scipy import sparse
 from milp.highs import LpSolve, make_lp, solve_lp
 from milp.result import MilpResult, relative_gap
 from milp.routes import check_distance_matrix, check_routes, within
+
+log = logging.getLogger(__name__)
 
 #: Largest number of KPOIs: 2^20 subsets x 20 end KPOIs is ~21 M DP states (170 MB of
 #: costs, 21 MB of parents, about 2 s); each extra KPOI doubles time and memory.
@@ -438,6 +441,7 @@ def min_makespan(
     best: list[list[int]] | RouteCounter = [table.route(len(costs) - 1, tours=tours)]
     most = min(k, table.n)
     nodes, message = 0, "bisection over route costs"
+    log.info("setpart: %d subsets' cheapest routes, bisection over %d route costs", len(costs) - 1, hi - lo + 1)
     while lo < hi:
         mid = (lo + hi) // 2
         remaining = None if time_limit is None else time_limit - (time.perf_counter() - began)

@@ -11,12 +11,15 @@ here too: the integer master over the pool at the root and whenever the pool has
 
 from __future__ import annotations
 
+import logging
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from milp.columns import Node
+
+log = logging.getLogger(__name__)
 
 if TYPE_CHECKING:
     from milp.branchprice import _Search
@@ -83,6 +86,7 @@ class Decision:
         rounded = rounded_up(outcome.bound)
         if at_root:
             self.root_bound = max(1, rounded) if math.isfinite(rounded) else None
+            log.info("branch-and-price: the root LP needs at least %s routes (%d allowed)", self.root_bound, self.target)
         if at_root and any(self._accept(routes) for routes in self._root_candidates(rounded)):
             return "found", []
         settled = None
@@ -137,6 +141,7 @@ class Decision:
         if routes is None or len(routes) > self.target:
             return False
         self.best, self.target = routes, len(routes) - 1
+        log.info("branch-and-price: %d routes found, %d nodes", len(routes), self.search.nodes)
         return self.first
 
 

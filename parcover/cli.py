@@ -79,6 +79,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _solve(args: argparse.Namespace) -> int:
     # One deadline from here: reading the instance counts against --time-limit.
     clock = Deadline(args.time_limit)
+    _start_log(args)
     _check_outputs(args, out=args.out, plot=args.plot, model=args.export_model)
     instance, question = load_question(args.instance, metric=args.distance)
     if question is not None and args.routes is None and args.robots is None and args.deadline is None:
@@ -116,7 +117,16 @@ def _solve(args: argparse.Namespace) -> int:
     return 0
 
 
+def _start_log(args: argparse.Namespace) -> None:
+    """``--log``: progress lines (phases, incumbents, bounds, gaps, nodes) on stderr."""
+    if getattr(args, "log", False):
+        from milp.progress import log_to_stderr
+
+        log_to_stderr()
+
+
 def _verify(args: argparse.Namespace) -> int:
+    _start_log(args)
     instance = read_instance(args.instance, metric=args.distance)
     solution = read_json(args.solution)
     if not (isinstance(solution, dict) and "routes" in solution) and not isinstance(solution, list):
@@ -162,6 +172,7 @@ def _print_certificate(certificate: Certificate) -> int:
 
 
 def _frontier(args: argparse.Namespace) -> int:
+    _start_log(args)
     _check_outputs(args, out=args.out, plot=args.plot)
     instance = read_instance(args.instance, metric=args.distance)
     progress = _print_frontier_point if sys.stderr.isatty() else None
@@ -393,7 +404,8 @@ def _build_parser() -> argparse.ArgumentParser:
     question = p.add_mutually_exclusive_group()
     question.add_argument("--robots", type=int, metavar="K", help="at most K robots: minimise the makespan")
     question.add_argument("--deadline", type=_float, metavar="C", help="every route within C: minimise the robots")
-    p.add_argument("--method", default="exact", help="solution method (see below; default: exact)")
+    p.add_argument("--method", default="exact",
+                   help="solution method, NAME or NAME:OPTION=VALUE such as best:until=limit (see below; default: exact)")
     limits = p.add_argument_group("limits")
     limits.add_argument("--time-limit", type=_positive_float, metavar="SECONDS", help="seconds for the whole solve, reading the instance included")
     limits.add_argument("--seed", type=_seed, default=0, help="seed of randomised methods (default: 0)")
@@ -403,6 +415,8 @@ def _build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the result as one JSON object")
     p.add_argument("--out", metavar="FILE", help="also write the result JSON to FILE")
     p.add_argument("--plot", metavar="FILE.png", help="draw the routes (over the map image when there is one)")
+    p.add_argument("--log", action="store_true",
+                   help="print progress on stderr: phases, incumbents, bounds and gaps, nodes, elapsed time")
     p.set_defaults(run=_solve, routes=None)  # None: the file's question's routes, else paths
 
     p = commands.add_parser(
@@ -418,6 +432,8 @@ def _build_parser() -> argparse.ArgumentParser:
                         "method other than the file's")
     p.add_argument("--time-limit", type=float, default=60.0, metavar="SECONDS",
                    help="for --certify (default 60)")
+    p.add_argument("--log", action="store_true",
+                   help="print progress on stderr: phases, incumbents, bounds and gaps, nodes, elapsed time")
     p.set_defaults(run=_verify)
 
     p = commands.add_parser("frontier", help="the robots-versus-makespan trade-off",
@@ -429,6 +445,8 @@ def _build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print the frontier as one JSON object")
     p.add_argument("--out", metavar="FILE", help="also write the frontier JSON to FILE")
     p.add_argument("--plot", metavar="FILE.png", help="draw robots against makespan")
+    p.add_argument("--log", action="store_true",
+                   help="print progress on stderr: phases, incumbents, bounds and gaps, nodes, elapsed time")
     p.set_defaults(run=_frontier)
 
     p = commands.add_parser(

@@ -38,6 +38,7 @@ share it.
 
 from __future__ import annotations
 
+import logging
 import os
 from collections.abc import Callable
 from typing import Any
@@ -49,6 +50,8 @@ from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.result import Status
 
 __all__ = ["exact", "compact", "branch_and_price", "branch_and_cut", "setpart", "cvxpy_model", "METHODS", "warm_start_routes"]
+
+log = logging.getLogger(__name__)
 
 _STATUS = {"optimal": Status.OPTIMAL, "infeasible": Status.INFEASIBLE, "unknown": Status.UNKNOWN}
 
@@ -125,6 +128,7 @@ def exact(
     if export_model:
         _export(instance, problem, export_model)
     if instance.n > BRANCHPRICE_MAX_KPOIS:  # neither setpart nor branchprice is imported
+        log.info("exact: compact model (more than %d KPOIs)", BRANCHPRICE_MAX_KPOIS)
         return compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
     from milp import setpart as model
 
@@ -132,11 +136,14 @@ def exact(
         if problem.objective == "makespan" and model.expected_seconds(instance.n) >= QUICK_CHECK_SECONDS:
             settled = _meets_trivial_bound(instance, problem, clock, seed)
             if settled is not None:
+                log.info("exact: best's construction meets the lower bound: optimal")
                 return settled
+        log.info("exact: setpart (at most %d KPOIs)", SETPART_FIRST[problem.objective])
         return _setpart(model, instance, problem, clock, warm_start)
     from milp import branchprice, race  # numba: only when needed
 
     if not branchprice.ready_within(clock.remaining()):
+        log.info("exact: branch-and-price not compiled and the time limit leaves no room to compile it")
         fallback = (_setpart(model, instance, problem, clock, warm_start) if instance.n <= model.MAX_KPOIS
                     else compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start))
         return _noting_uncompiled(fallback)
@@ -144,12 +151,15 @@ def exact(
         if (problem.objective == "makespan" and problem.robots <= RACE_ROUTES and instance.n <= RACE_MAX_KPOIS
                 and race.cores() >= 2):
             return _race_makespan(instance, problem, clock, seed, warm_start)
+        log.info("exact: branch-and-price")
         return branch_and_price(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
+    log.info("exact: branch-and-price for at most %g s, then setpart", BRANCHPRICE_FIRST)
     first = branch_and_price(instance, problem, time_limit=_share(clock, BRANCHPRICE_FIRST),
                              seed=seed, warm_start=warm_start)
     left = clock.remaining()
     if _decided(first) or (left is not None and left < model.expected_seconds(instance.n)):
         return first
+    log.info("exact: branch-and-price did not prove it; setpart")
     solution = _setpart(model, instance, problem, clock, warm_start)
     return solution if _decided(solution) else first
 
@@ -164,6 +174,8 @@ def _race_makespan(instance: Instance, problem: Problem, clock: Deadline, seed: 
     from milp import race
 
     start = warm_start or warm_start_routes(instance, problem, clock, seed)
+    log.info("exact: branch-and-price for at most %g s, then a race of %s", BRANCHPRICE_FIRST,
+             " and ".join(RACE_MODELS))
     first = branch_and_price(instance, problem, time_limit=_share(clock, BRANCHPRICE_FIRST),
                              seed=seed, warm_start=start)
     left = clock.remaining()
@@ -412,6 +424,8 @@ def warm_start_routes(
     budget = Deadline.of(time_limit).fraction(WARM_SHARE)
     rounds = WARM_ROUNDS[problem.objective] if rounds is None else rounds
     target = lower_bound(instance, problem) if target is None else target
+    log.info("warm start: best, %d rounds%s", rounds,
+             "" if budget.seconds is None else f", at most {budget.seconds:.3g} s")
     solution = methods["best"].function(instance, problem, time_limit=budget, seed=seed, iterations=rounds,
                                         target=target)
     return solution.routes or None

@@ -99,8 +99,7 @@ import os
 import platform
 import sys
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass, replace
-from functools import partial
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Union
 
@@ -566,44 +565,14 @@ def _pending_tasks(
 
 
 def _resolve_methods(methods: Sequence[str], reference: str) -> tuple[tuple[MethodInfo, ...], MethodInfo]:
-    from parcover.solve import available_methods
+    from parcover.solve import method_with_options
 
-    registry = available_methods()
     labels = [methods] if isinstance(methods, str) else list(methods)
     if not labels:
         raise InputError("No methods given.")
     if len(set(labels)) != len(labels):
         raise InputError("A method is listed twice.")
-    return tuple(method_with_options(label, registry) for label in labels), method_with_options(reference, registry)
-
-
-def method_with_options(label: str, registry: dict[str, MethodInfo]) -> MethodInfo:
-    """The method a report label names: ``NAME`` or ``NAME:OPTION=VALUE[:...]``.
-
-    ``best:iterations=200`` is ``best`` with a fixed number of rounds, so that its rows
-    depend on the seed alone and not on the machine's speed. The label is the method's
-    name in the rows.
-    """
-    name, *settings = label.split(":")
-    if name not in registry:
-        raise InputError(f"Unknown method {name!r}; expected one of {', '.join(sorted(registry))}.")
-    info = registry[name]
-    if not settings:
-        return info
-    options: dict[str, int | float] = {}
-    for setting in settings:
-        key, _, text = setting.partition("=")
-        if key not in info.options or not text:
-            offered = ", ".join(info.options) or "none"
-            raise InputError(f"{label!r}: method {name!r} has no option {key!r} (options: {offered}).")
-        try:
-            options[key] = int(text)
-        except ValueError:
-            try:
-                options[key] = float(text)
-            except ValueError:
-                raise InputError(f"{label!r}: option {key!r} needs a number, not {text!r}.") from None
-    return replace(info, name=label, function=partial(info.function, **options))
+    return tuple(method_with_options(label) for label in labels), method_with_options(reference)
 
 
 def _route_kinds(routes: Sequence[str]) -> tuple[RoutesKind, ...]:

@@ -146,6 +146,24 @@ class Result:
         """The JSON object, one key per line."""
         return _json_lines(self.to_dict())
 
+    def headline(self) -> str:
+        """One line: status, value and bound with their units, gap (or the note)."""
+        if not self.routes:
+            return f"{self.status.value}" + (f": {self.note}" if self.note else "")
+        value = (f"{self.robots} robot{'s' if self.robots != 1 else ''}" if self.objective == "robots"
+                 else f"makespan {_num(self.makespan)}")
+        gap_text = f"{100 * self.gap:.4g}%" if self.gap is not None else "-"
+        return f"{self.status.value}: {value}, bound {self._bound_text()}, gap {gap_text}"
+
+    def _bound_text(self) -> str:
+        """The proven bound with what it bounds: ``"3 robots (no fewer)"`` or
+        ``"4.5 (makespan: no less)"``."""
+        if self.bound is None:
+            return "-"
+        if self.objective == "robots":
+            return f"{_num(self.bound)} robots (no fewer)"
+        return f"{_num(self.bound)} (makespan: no less)"
+
     def summary(self) -> str:
         """A fixed-layout, human-readable summary."""
         question = (
@@ -160,16 +178,16 @@ class Result:
             f"method    {self.method}",
             f"status    {self.status.value}",
         ]
+        objective = "   (the objective)"
         if self.routes:
             lines += [
-                f"robots    {self.robots}",
-                f"makespan  {_num(self.makespan)}",
+                f"robots    {self.robots}" + (objective if self.objective == "robots" else ""),
+                f"makespan  {_num(self.makespan)}" + (objective if self.objective == "makespan" else ""),
             ]
         if self.note:
             lines.append(f"note      {self.note}")
-        bound = _num(self.bound) if self.bound is not None else "-"
         gap_text = f"{100 * self.gap:.4g}%" if self.gap is not None else "-"
-        lines.append(f"bound     {bound}   gap {gap_text}")
+        lines.append(f"bound     {self._bound_text()}   gap {gap_text}")
         lines.append(f"time      {self.seconds:.3f} s")
         for r, (route, cost) in enumerate(zip(self.routes, self.route_costs), start=1):
             lines.append(f"  robot {r:>3}  cost {_num(cost):>10}  {' -> '.join(route)}")

@@ -11,7 +11,11 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import inspect
+import logging
 import time
+from dataclasses import replace
+from functools import partial
 from typing import Any
 
 from milp.deadline import Deadline, TimeLimit
@@ -22,7 +26,7 @@ from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.result import Result, RoutesKind, Status, gap
 from parcover.verify import InvalidSolution, route_costs, verify
 
-__all__ = ["solve", "METHODS", "MethodInfo", "SolverError", "register_method"]
+__all__ = ["solve", "METHODS", "MethodInfo", "SolverError", "register_method", "method_with_options"]
 
 _VALUE_RTOL = 1e-9
 # Share of a time limit kept back from the method for verifying its routes, the
@@ -30,6 +34,9 @@ _VALUE_RTOL = 1e-9
 # of exit after numba was loaded), and for the methods' uninterruptible steps (numba
 # loading its compiled labelling: 0.3 s): measured at 200 KPOIs.
 _CHECK_SHARE = 0.1
+
+
+log = logging.getLogger(__name__)
 
 
 class SolverError(RuntimeError):
@@ -79,7 +86,8 @@ def solve(
         Every route within this cost: minimise the robots. With neither, the fewest
         robots at the least possible makespan (``c_max``, or ``2 c_max`` for tours).
     method
-        A name from :data:`METHODS` (``parcover solve --help`` lists them).
+        A name from :data:`METHODS` (``parcover solve --help`` lists them), or a label
+        with options, ``NAME:OPTION=VALUE[:...]`` (:func:`method_with_options`).
     time_limit
         Seconds for the whole answer (``None``: no limit), or a
         :class:`~milp.deadline.Deadline` started earlier (the CLI starts one before it
@@ -115,7 +123,7 @@ def solve(
             f"Expected an Instance, got {type(instance).__name__} {instance!r}; read a file with pc.load(path)."
         )
     problem = Problem(routes, robots, deadline)
-    info = _method(method)
+    info = method_with_options(method)
     unknown = sorted(set(options) - set(info.options))
     if unknown:
         raise InputError(f"Method {method!r} takes no option {unknown[0]!r}.")
@@ -126,7 +134,8 @@ def solve(
     started = time.perf_counter()
     limit = problem.effective_deadline(instance)
     if limit is not None and not meets_deadline(problem.least_makespan(instance), limit):
-        solution = Solution(routes=[], status=Status.INFEASIBLE)
+        solution = Solution(routes=[], status=Status.INFEASIBLE,
+                            info={"message": unreachable_reason(instance, problem, limit)})
     elif clock.expired():
         spent = f"{clock.seconds:g} s" if clock.seconds is not None else "time"
         solution = Solution(routes=[], status=Status.UNKNOWN, info={
@@ -135,9 +144,32 @@ def solve(
     else:
         left = clock.remaining()
         seconds = None if left is None else (1 - _CHECK_SHARE) * left
+        log.info("solve: %s, %s, method %s, %s", instance.name or "instance", _question_text(instance, problem),
+                 method, "no time limit" if seconds is None else f"{seconds:.3g} s for the method")
         solution = info.function(instance, _at_most_n_robots(instance, problem), time_limit=seconds, seed=seed,
                                  **options)
-    return build_result(instance, problem, method, solution, time.perf_counter() - started)
+    result = build_result(instance, problem, method, solution, time.perf_counter() - started)
+    log.info("solve: %s", result.headline())
+    return result
+
+
+def unreachable_reason(instance: Instance, problem: Problem, deadline: float) -> str:
+    """Why no route set meets ``deadline``: the KPOI farthest from the start, whose
+    shortest path (there and back, for tours) already exceeds it (paper, Prop. 1)."""
+    far = max(range(1, instance.n + 1), key=lambda i: instance.distances[0, i])
+    there = float(instance.distances[0, far])
+    cost = 2 * there if problem.tours else there
+    way = f"{2:g} x {there:.6g} = {cost:.6g} there and back" if problem.tours else f"{cost:.6g} from the start"
+    return (f"KPOI {instance.ids[far]} is {way}, above the deadline {deadline:.6g}; "
+            f"no {problem.routes[:-1]} can cover it in time (the least possible makespan is {cost:.6g})")
+
+
+def _question_text(instance: Instance, problem: Problem) -> str:
+    """The question in words, for the log: ``"tours, at most 3 robots"``."""
+    if problem.robots is not None:
+        return f"{problem.routes}, at most {problem.robots} robots: least makespan"
+    deadline = problem.effective_deadline(instance)
+    return f"{problem.routes}, deadline {deadline:.6g}: fewest robots"
 
 
 def _warm_start_indices(instance: Instance, problem: Problem, routes: Any) -> list[list[int]]:
@@ -246,6 +278,45 @@ def _id_routes(instance: Instance, routes: list[list[int]], *, tours: bool) -> l
     ids = instance.ids
     start = [instance.start]
     return [start + [ids[i] for i in route] + (start if tours else []) for route in routes]
+
+
+def method_with_options(label: str) -> MethodInfo:
+    """The method a label names: ``NAME`` or ``NAME:OPTION=VALUE[:...]``.
+
+    ``best:iterations=200`` is ``best`` with a fixed number of rounds, so that its
+    answers depend on the seed alone and not on the machine's speed;
+    ``best:until=limit`` spends the whole time limit. A value is a number unless the
+    option's default is text. The label is the method's name in results and reports.
+    """
+    if not isinstance(label, str):
+        return _method(label)
+    name, *settings = label.split(":")
+    info = _method(name)
+    if not settings:
+        return info
+    defaults = inspect.signature(info.function).parameters
+    options: dict[str, int | float | str] = {}
+    for setting in settings:
+        key, _, text = setting.partition("=")
+        if key not in info.options or not text:
+            offered = ", ".join(info.options) or "none"
+            raise InputError(f"{label!r}: method {name!r} has no option {key!r} (options: {offered}).")
+        options[key] = _option_value(label, key, text, defaults[key].default if key in defaults else None)
+    return replace(info, name=label, function=partial(info.function, **options))
+
+
+def _option_value(label: str, key: str, text: str, default: Any) -> int | float | str:
+    """An option's value from its text: kept as text when the option's default is
+    text, else a number."""
+    if isinstance(default, str):
+        return text
+    try:
+        return int(text)
+    except ValueError:
+        try:
+            return float(text)
+        except ValueError:
+            raise InputError(f"{label!r}: option {key!r} needs a number, not {text!r}.") from None
 
 
 def _method(name: str) -> MethodInfo:

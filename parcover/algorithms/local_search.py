@@ -15,12 +15,30 @@ improves it:
   repeatedly emptied by cheapest insertion of its KPOIs into the others within the
   deadline; after part of the effort, :func:`fewer_robots` searches the least makespan
   with one robot fewer until it meets the deadline, and again with one fewer;
-* ruin and recreate while the effort lasts: strings of consecutive KPOIs are removed
+* ruin and recreate until the search stops (below): strings of consecutive KPOIs are removed
   from the routes nearest a random KPOI (half of the time one of the longest route,
   the makespan's bottleneck) and put back by min-max cheapest insertion in a random
   order (slack induction by string removals, SISR); the result is accepted by
   simulated annealing on the makespan plus a small share of the total length (never
   with more robots), and the best solution met is kept.
+
+When it stops
+-------------
+A time limit is a cap, not a budget. Without ``iterations``, the search stops at the first of:
+
+1. its value meets a proven lower bound (:func:`parcover.bounds.lower_bound`: ``c_max``
+   or ``2 c_max``, the spanning-tree and Held-Karp bounds, the fewest robots they allow):
+   nothing can be better, so the answer is optimal;
+2. convergence: :func:`patience` rounds in a row (``max(100, 10 n)`` for ``n`` KPOIs)
+   without a better solution;
+3. the time limit.
+
+The annealing temperature then falls over ``2 * patience(n)`` rounds, so the answer
+depends on the seed alone, unless the first rounds show that this schedule will not
+fit in the time limit: the temperature then falls over the time left instead, as with
+``until="limit"``, which spends the whole limit (stops 1 and 2 off). With ``iterations``
+the search runs exactly that many rounds (or until the limit). Without a time limit
+and without ``iterations``, :data:`DEFAULT_ITERATIONS` rounds.
 
 Routes are handled as ``[0, v_1, ..., v_m, E]`` where ``E`` is the start (tours) or a
 dummy end at distance 0 from everything (paths), so both route kinds share every move.
@@ -29,6 +47,7 @@ dummy end at distance 0 from everything (paths), so both route kinds share every
 from __future__ import annotations
 
 import functools
+import logging
 import math
 import random
 import time
@@ -40,16 +59,25 @@ import numpy as np
 
 from milp.deadline import Deadline, TimeLimit
 from parcover import exact
-from parcover.bounds import robots_lower_bound
+from parcover.bounds import lower_bound, robots_lower_bound
+from parcover.errors import InputError
 from parcover.instance import Instance
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.result import Status
 
-__all__ = ["best", "improve", "fewer_robots", "min_max_insertion", "DEFAULT_ITERATIONS", "METHODS"]
+__all__ = ["best", "improve", "fewer_robots", "min_max_insertion", "patience", "DEFAULT_ITERATIONS", "METHODS"]
 
 DEFAULT_ITERATIONS = 30
 """Ruin-and-recreate rounds when neither a time limit nor ``iterations`` is given
 (about half a second for 50 KPOIs)."""
+
+#: Rounds without a better solution that end a search, at least and per KPOI (:func:`patience`).
+PATIENCE_MIN, PATIENCE_PER_KPOI = 100, 10
+#: Rounds timed before deciding whether the annealing schedule fits in the time limit.
+_CALIBRATION_ROUNDS = 5
+UNTIL = ("converged", "limit")
+
+log = logging.getLogger(__name__)
 
 #: Methods that are not constructions: ourselves, the trivial one and every exact method.
 _NOT_STARTS = frozenset({"best", "trivial", *(method.name for method in exact.METHODS)})
@@ -78,6 +106,7 @@ def best(
     seed: int = 0,
     iterations: int | None = None,
     target: float | None = None,
+    until: str = "converged",
 ) -> Solution:
     """Best registered construction, then iterated local search (module docstring).
 
@@ -86,17 +115,25 @@ def best(
     instance, problem
         The question; both objectives and both route kinds.
     time_limit
-        Seconds for the whole run, or a :class:`~milp.deadline.Deadline` shared with
-        the caller. Results then may depend on the machine's speed.
+        Seconds for the whole run at most, or a :class:`~milp.deadline.Deadline`
+        shared with the caller. Results depend on the machine's speed only when the
+        limit ends the search (or is predicted to: module docstring).
     seed
         Seed of the ruin-and-recreate rounds (and of the constructions).
     iterations
         Ruin-and-recreate rounds. Default: :data:`DEFAULT_ITERATIONS` without a time
-        limit, unbounded (until the time limit) with one. With both, whichever ends
-        first; with iterations alone the result depends only on ``seed``.
+        limit; with one, until the search stops (module docstring, "When it stops").
+        With both, whichever ends first; with iterations alone the result depends only
+        on ``seed``.
     target
         A proven lower bound on the objective (makespan, or robots): the search stops
-        as soon as it is met, as nothing can be better (the exact methods' warm start).
+        as soon as it is met, as nothing can be better. Default: the trivial lower
+        bound (:func:`parcover.bounds.lower_bound`) under a time limit without
+        ``iterations``, none otherwise.
+    until
+        ``"converged"`` (default): under a time limit without ``iterations``, stop at
+        the bound, at convergence or at the limit, whichever comes first; ``"limit"``:
+        spend the whole time limit (needs one).
 
     Returns
     -------
@@ -107,22 +144,36 @@ def best(
     """
     time_limit = Deadline.of(time_limit).remaining()
     started = time.perf_counter()
+    if until not in UNTIL:
+        raise InputError(f"best: until must be one of {', '.join(UNTIL)}, not {until!r}.")
+    if until == "limit" and time_limit is None:
+        raise InputError("best: until=limit spends the whole time limit; give one.")
     deadline = problem.effective_deadline(instance)
     if deadline is not None and not meets_deadline(problem.least_makespan(instance), deadline):
         return Solution(routes=[], status=Status.INFEASIBLE)
     name, start = best_construction(instance, problem, time_limit=time_limit, seed=seed)
+    patience_rounds = None
     if iterations is None and time_limit is None:
         iterations = DEFAULT_ITERATIONS
+    elif iterations is None and until == "converged":
+        patience_rounds = patience(instance.n)
+        if target is None:
+            target = lower_bound(instance, problem)
     stop = None if time_limit is None else started + time_limit
+    if log.isEnabledFor(logging.INFO):
+        search = _Search(instance, problem)
+        log.info("best: starts from %s (%s); %s", name, _describe(search.key(search.sequences(start))),
+                 _stopping(iterations, patience_rounds, target, time_limit))
     if problem.objective == "makespan":
         routes, info = improve(instance, problem, start, seed=seed, iterations=iterations, stop=stop,
-                               target=target)
+                               target=target, patience=patience_rounds)
         return Solution(routes=routes, info={"start": name, **info})
     # robots: part of the effort on the robots search, the rest on fewer_robots
-    first = None if stop is None else started + _ROBOTS_SHARE * time_limit
-    routes, info = improve(instance, problem, start, seed=seed, iterations=iterations, stop=first,
-                           target=target)
-    routes, rounds = fewer_robots(instance, problem, routes, seed=seed, iterations=iterations, stop=stop)
+    first = None if stop is None or patience_rounds is not None else started + _ROBOTS_SHARE * time_limit
+    routes, info = improve(instance, problem, start, seed=seed, iterations=iterations, stop=first or stop,
+                           target=target, patience=patience_rounds)
+    routes, rounds = fewer_robots(instance, problem, routes, seed=seed, iterations=iterations, stop=stop,
+                                  patience=patience_rounds)
     search = _Search(instance, problem)
     value = search.key(search.sequences(routes))
     info.update(value=value, iterations=info["iterations"] + rounds)
@@ -137,6 +188,7 @@ def fewer_robots(
     seed: int = 0,
     iterations: int | None = DEFAULT_ITERATIONS,
     stop: float | None = None,
+    patience: int | None = None,
 ) -> tuple[list[list[int]], int]:
     """Robots objective: meet the deadline with one route fewer, again and again.
 
@@ -145,8 +197,8 @@ def fewer_robots(
     (:meth:`_Search.empty_one_route`: min-max cheapest insertion, as there is no
     deadline) and stops as soon as its makespan meets the deadline: those ``q`` routes
     are a better answer, and ``q`` drops by one. Ends at the first
-    ``q`` not reached within ``iterations`` rounds (or by ``stop``), or at the
-    spanning-tree bound (:func:`parcover.bounds.robots_lower_bound`). Returns the routes
+    ``q`` not reached within ``iterations`` rounds (or ``patience`` rounds without a
+    better solution, or by ``stop``), or at the spanning-tree bound (:func:`parcover.bounds.robots_lower_bound`). Returns the routes
     and the rounds used.
     """
     deadline = problem.effective_deadline(instance)
@@ -159,11 +211,12 @@ def fewer_robots(
         seqs = search.sequences(routes)
         search.empty_one_route(seqs)  # no deadline in the makespan search: always succeeds
         found, info = improve(instance, fewer, [s[1:-1] for s in seqs], seed=seed,
-                              iterations=iterations, stop=stop, target=deadline)
+                              iterations=iterations, stop=stop, target=deadline, patience=patience)
         rounds += info["iterations"]
         if not meets_deadline(info["value"][0], deadline):
             break
         routes = found
+        log.info("best: %d robots meet the deadline (round %d)", len(routes), rounds)
     return routes, rounds
 
 
@@ -236,6 +289,7 @@ def improve(
     iterations: int | None = DEFAULT_ITERATIONS,
     stop: float | None = None,
     target: float | None = None,
+    patience: int | None = None,
 ) -> tuple[list[list[int]], dict[str, Any]]:
     """Iterated local search from valid ``routes`` (KPOI indices).
 
@@ -243,20 +297,25 @@ def improve(
     and accepts it by simulated annealing on :func:`_energy`: a worse candidate is
     taken when its energy exceeds the current one by less than ``-T ln u`` (``u``
     uniform), the temperature ``T`` falling geometrically from :data:`_T_FIRST` to
-    :data:`_T_LAST` times the start's makespan over the rounds (or the time). The best
-    solution met is kept.
+    :data:`_T_LAST` times the start's makespan over the rounds (``iterations``, or
+    ``2 * patience``) or over the time to ``stop``, whichever is shorter: with
+    ``patience``, the first :data:`_CALIBRATION_ROUNDS` rounds decide whether the
+    rounds fit before ``stop`` (then the clock is ignored, and the answer depends on
+    the seed alone). The best solution met is kept.
 
     Parameters
     ----------
     routes
         A valid starting solution for ``problem``.
     iterations
-        Ruin-and-recreate rounds (``None``: until ``stop``).
+        Ruin-and-recreate rounds (``None``: until another rule stops the search).
     stop
         A :func:`time.perf_counter` value at which to stop (``None``: no limit).
     target
         Stop as soon as the objective meets it: the makespan within it (as a deadline),
         or at most this many robots.
+    patience
+        Stop after this many rounds in a row without a better solution (``None``: never).
 
     Returns
     -------
@@ -264,8 +323,8 @@ def improve(
         The best routes found (never worse than ``routes`` by the objective key) and
         an info dict with ``start_value``, ``value`` and ``iterations``.
     """
-    if iterations is None and stop is None:
-        raise ValueError("Give iterations or a stop time.")
+    if iterations is None and stop is None and patience is None:
+        raise ValueError("Give iterations, a stop time or a patience.")
     search = _Search(instance, problem, stop)
     rng = random.Random(seed)
     start = search.sequences(routes)
@@ -277,12 +336,18 @@ def improve(
         incumbent, incumbent_key = _copy(start), start_key
     began = time.perf_counter()
     scale = max(current_key[-2], search.tol)
-    done = 0
+    horizon = iterations if iterations is not None else (None if patience is None else 2 * patience)
+    clocked = stop is not None and patience is None  # does the temperature follow the clock?
+    done = last_better = 0
     while (iterations is None or done < iterations) and not search.out_of_time():
         if target is not None and _meets(incumbent_key, target):
             break
-        progress = done / iterations if iterations else 0.0
-        if stop is not None:
+        if patience is not None and done - last_better >= patience:
+            break
+        if stop is not None and patience is not None and done == _CALIBRATION_ROUNDS:
+            clocked = began + (time.perf_counter() - began) * horizon / done > stop
+        progress = done / horizon if horizon else 0.0
+        if clocked:
             progress = max(progress, (time.perf_counter() - began) / max(stop - began, 1e-9))
         temperature = scale * _T_FIRST * (_T_LAST / _T_FIRST) ** min(progress, 1.0)
         candidate = _copy(current)
@@ -292,11 +357,38 @@ def improve(
         candidate_key = search.key(candidate)
         done += 1
         if candidate_key < incumbent_key:
-            incumbent, incumbent_key = _copy(candidate), candidate_key
+            incumbent, incumbent_key, last_better = _copy(candidate), candidate_key, done
+            log.info("best: round %d, %s", done, _describe(incumbent_key))
         if _accepts(candidate_key, current_key, temperature, rng):
             current, current_key = candidate, candidate_key
     final = [s[1:-1] for s in incumbent if len(s) > 2]
     return final, {"start_value": start_key, "value": incumbent_key, "iterations": done}
+
+
+def patience(n: int) -> int:
+    """Rounds in a row without a better solution after which ``best`` has converged,
+    for ``n`` KPOIs: ``max(PATIENCE_MIN, PATIENCE_PER_KPOI * n)``."""
+    return max(PATIENCE_MIN, PATIENCE_PER_KPOI * n)
+
+
+def _describe(key: Key) -> str:
+    """An objective key in words, for the log."""
+    if len(key) == 3:
+        return f"{key[0]:g} robots, makespan {key[1]:.6g}"
+    return f"makespan {key[0]:.6g}, total length {key[1]:.6g}"
+
+
+def _stopping(iterations: int | None, patience: int | None, target: float | None,
+              time_limit: float | None) -> str:
+    """Which rules will stop the search, in words, for the log."""
+    rules = [] if iterations is None else [f"{iterations} rounds"]
+    if target is not None:
+        rules.append(f"the lower bound {target:.6g}")
+    if patience is not None:
+        rules.append(f"{patience} rounds without a better solution")
+    if time_limit is not None:
+        rules.append(f"{time_limit:.3g} s")
+    return "stops at " + (", ".join(rules) or "once")
 
 
 def _meets(key: Key, target: float) -> bool:
@@ -794,7 +886,8 @@ METHODS = (
     MethodInfo(
         "best",
         best,
-        "best construction + iterated local search (2-opt, or-opt, relocate, swap, 2-opt*)",
-        options=("iterations",),
+        "best construction + iterated local search (2-opt, or-opt, relocate, swap, 2-opt*); "
+        "stops at a proven bound, at convergence or at the time limit (until=limit: spends it)",
+        options=("iterations", "until"),
     ),
 )
