@@ -96,6 +96,7 @@ import itertools
 import json
 import logging
 import math
+import multiprocessing
 import os
 import platform
 import sys
@@ -702,13 +703,34 @@ def _run(tasks: list[_Task], workers: int, scheduler: str | None) -> Iterator[tu
         for task in tasks:
             yield from ((1, rows) for rows in _unit_rows(task))
         return
-    with concurrent.futures.ProcessPoolExecutor(max_workers=workers) as pool:
+    from milp.orphans import exit_with_parent
+
+    # Workers end with this process, whatever ends it (SIGKILL included): no orphans.
+    context = multiprocessing.get_context()
+    parent = None if context.get_start_method() == "forkserver" else os.getpid()
+    pool = concurrent.futures.ProcessPoolExecutor(
+        max_workers=workers, mp_context=context, initializer=exit_with_parent, initargs=(parent,)
+    )
+    finished = False
+    try:
         futures = {pool.submit(_task_rows, task): task for task in tasks}
-        try:
-            for future in concurrent.futures.as_completed(futures):
-                yield len(futures[future].units()), future.result()
-        finally:
-            pool.shutdown(wait=False, cancel_futures=True)
+        for future in concurrent.futures.as_completed(futures):
+            yield len(futures[future].units()), future.result()
+        finished = True
+    finally:
+        if not finished:  # an error, an interrupt, or the caller stopped early: the rest is abandoned
+            _stop_workers(pool)
+        pool.shutdown(wait=finished, cancel_futures=True)
+
+
+def _stop_workers(pool: concurrent.futures.ProcessPoolExecutor) -> None:
+    """End a pool's workers now, their tasks abandoned (Python 3.14's ``terminate_workers``;
+    before it, each worker process)."""
+    if hasattr(pool, "terminate_workers"):
+        pool.terminate_workers()
+        return
+    for process in list((pool._processes or {}).values()):
+        process.terminate()
 
 
 def _run_on_dask(tasks: list[_Task], scheduler: str) -> Iterator[tuple[int, list[dict[str, Any]]]]:
