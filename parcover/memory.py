@@ -56,8 +56,9 @@ GRAPH_BYTES_PER_ENTRY = 16
 #: Python objects per node (name, coordinates, index entries, JSON text; 360 measured
 #: for random points, rounded up for the graphs' Delaunay triangulation).
 NODE_BYTES = 1024
-#: Python objects per edge (its tuple, weight, sparse-graph arrays, JSON text).
-EDGE_BYTES = 512
+#: Python objects per edge (its tuple, weight, sparse-graph arrays, JSON text; 160
+#: measured for TSPLIB's complete graph, 1870 per node with 3 edges for random graphs).
+EDGE_BYTES = 320
 #: Parsed JSON or TSPLIB per byte of file text (numbers become floats in lists, names strings).
 FILE_BYTES_PER_BYTE = 10
 #: Per pixel of a map while free KPOI positions are sampled (the free pixels' indices and

@@ -320,8 +320,7 @@ def _check_spec_memory(spec: str, kind: str, values: dict[str, Sequence[int]], k
     copies = len(values.get("seeds", [0]))
     count = copies * math.prod(len(values[k]) for k in keys)
     what = f"{spec!r} ({count} instance{'s' if count != 1 else ''})"
-    least = footprint({k: min(values[k][0], values[k][-1]) if isinstance(values[k], range) else min(values[k])
-                       for k in keys})
+    least = footprint({k: values[k][0] if isinstance(values[k], range) else min(values[k]) for k in keys})
     check_memory(kept + count * least.kept + least.peak - least.kept, what)
     total, peak = kept, 0
     for combo in itertools.product(*(values[k] for k in keys)):
@@ -350,11 +349,12 @@ def load_instances(instances: InstanceInput | Iterable[InstanceInput]) -> list[I
     found: list[Instance] = []
     kept = 0
     for item in items:
+        loaded: Iterable[Instance]
         if isinstance(item, Instance):
             loaded = [item]
         elif Path(item).is_dir():
             files = sorted(p for p in Path(item).iterdir() if p.suffix.lower() in (".json", ".tsp"))
-            loaded = [read_instance(p) for p in files]
+            loaded = (read_instance(p) for p in files)  # each counted before the next is read
         elif Path(item).is_file():
             loaded = [read_instance(item)]
         elif isinstance(item, str) and item.split(":")[0] in _GENERATOR_KEYS:
@@ -367,7 +367,7 @@ def load_instances(instances: InstanceInput | Iterable[InstanceInput]) -> list[I
         for instance in loaded:
             kept += footprint_of(instance).kept
             check_memory(kept, f"Loading the instances up to {instance.name!r}")
-        found += loaded
+            found.append(instance)
     if not found:
         raise InputError("No instances given.")
     names = [inst.name for inst in found]

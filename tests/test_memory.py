@@ -230,3 +230,17 @@ def test_a_degenerate_image_is_one_line(capsys, tmp_path, pixels, message):
     code = main(["generate", "map", "--image", image, "--metres-per-pixel", "0.05", "--kpois", "5"])
     err = capsys.readouterr().err
     assert code == 2 and message in err and len(err.splitlines()) == 1, err
+
+
+def test_a_folder_of_instances_is_counted_as_it_is_read(monkeypatch, tmp_path):
+    # five instances of 400 KPOIs: each fits in 6 MB (4.3 MB to build, 1.7 MB kept), all do not
+    from parcover.io import write_instance
+    from parcover.report import load_instances
+
+    for seed in range(5):
+        write_instance(generate.random_points(400, seed), tmp_path / f"r{seed}.json")
+    monkeypatch.setenv(memory.LIMIT_VARIABLE, "6MB")
+    with pytest.raises(memory.MemoryLimitError, match="Loading the instances up to 'random-uniform-n400-s3' needs"):
+        load_instances(tmp_path)
+    monkeypatch.setenv(memory.LIMIT_VARIABLE, "10MB")
+    assert len(load_instances(tmp_path)) == 5
