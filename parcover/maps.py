@@ -116,6 +116,8 @@ def read_free_mask(image: str | os.PathLike[str] | np.ndarray) -> np.ndarray:
         memory than there is (:func:`parcover.memory.map_bytes`, from the file's header).
     """
     if isinstance(image, np.ndarray):
+        if image.ndim not in (2, 3) or not image.size:
+            raise MapError(f"An image array has rows, columns and maybe colour bands, not shape {image.shape}.")
         height, width, bands = *image.shape[:2], image.shape[2] if image.ndim == 3 else 1
         check_memory(map_bytes(height, width, bands), f"A map of {width} x {height} pixels")
         a = image.astype(float)

@@ -162,6 +162,8 @@ def test_an_image_array_is_counted_before_it_is_copied(monkeypatch):
     with pytest.raises(memory.MemoryLimitError, match="A map of 200 x 100 pixels needs about 1.4 MB"):
         read_free_mask(np.ones((100, 200, 3)))
     assert read_free_mask(np.ones((10, 20))).all()
+    with pytest.raises(InputError, match=r"not shape \(5,\)"):
+        read_free_mask(np.ones(5))
 
 
 def test_an_instance_file_too_large_to_parse_is_refused(capsys, monkeypatch, tmp_path):
