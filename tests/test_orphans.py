@@ -1,5 +1,6 @@
 """No orphans (issue 30, item 4): a killed ``parcover report`` (any signal, SIGKILL
-included) leaves no pool worker behind, and neither does a killed race."""
+included) leaves no pool worker behind, nor does one that ends or fails, and a child
+that calls :func:`milp.orphans.exit_with_parent` ends with its parent."""
 
 from __future__ import annotations
 
@@ -11,6 +12,11 @@ import textwrap
 import time
 
 import pytest
+
+from parcover import MethodInfo, generate
+from parcover.algorithms.trivial import one_per_kpoi
+from parcover.report import gaps
+from parcover.solve import METHODS
 
 psutil = pytest.importorskip("psutil")  # a dependency of dask.distributed, in the test extras
 
@@ -109,3 +115,45 @@ def test_a_child_whose_parent_is_already_gone_ends_at_once():
     code = "from milp import orphans; orphans.exit_with_parent(parent=1); print('ran on')"
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert done.returncode == 70 and done.stdout == ""
+
+
+# -- in-process reports: the pool's workers end with the report ---------------------
+
+
+def sleeps_or_fails(instance, problem, *, time_limit=None, seed=0):
+    """Test method (module-level: forked workers find it): fails on star-3, sleeps elsewhere."""
+    if instance.name == "star-3":
+        raise RuntimeError("planted failure")
+    time.sleep(60)
+    return one_per_kpoi(instance, problem)
+
+
+def _new_workers(before: set[int]) -> list:
+    """Children of this process started since ``before`` (not multiprocessing's resource tracker)."""
+    found = []
+    for process in psutil.Process().children(recursive=True):
+        try:
+            if process.pid not in before and "resource_tracker" not in " ".join(process.cmdline()):
+                found.append(process)
+        except psutil.NoSuchProcess:  # ended meanwhile
+            pass
+    return found
+
+
+def test_a_finished_report_leaves_no_worker():
+    before = {p.pid for p in psutil.Process().children(recursive=True)}
+    rows = gaps([generate.star(3), generate.star(4)], ["trivial"], routes=("paths",), robots=(2,), deadlines=(),
+                reference="trivial", workers=2, progress=False)
+    assert len(rows) == 2
+    assert _gone(_new_workers(before), 2) == []
+
+
+def test_a_failing_report_stops_its_other_workers(monkeypatch):
+    monkeypatch.setitem(METHODS, "sleepy", MethodInfo("sleepy", sleeps_or_fails, "test only"))
+    before = {p.pid for p in psutil.Process().children(recursive=True)}
+    started = time.monotonic()
+    with pytest.raises(RuntimeError, match="planted failure"):
+        gaps([generate.star(3), generate.star(4)], ["sleepy"], routes=("paths",), robots=(2,), deadlines=(),
+             reference="trivial", workers=2, progress=False)
+    assert _gone(_new_workers(before), 5) == []
+    assert time.monotonic() - started < 20  # the sleeping worker was not waited for
