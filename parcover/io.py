@@ -10,8 +10,9 @@
 Every problem with a file raises :class:`FileFormatError` (an
 :class:`~parcover.errors.InputError`) with one line naming the file and the problem:
 only regular files up to :data:`MAX_FILE_BYTES` whose parsing fits in memory
-(:mod:`parcover.memory`) are read (a FIFO would block, a device never end), and JSON with duplicate keys or nested deeper than Python can parse is
-refused rather than half-read.
+(:mod:`parcover.memory`) are read (a FIFO would block, a device never end), and JSON
+with duplicate keys or nested deeper than Python can parse is refused rather than
+half-read.
 """
 
 from __future__ import annotations
