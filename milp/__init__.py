@@ -12,10 +12,12 @@ start and ``1..n`` the KPOIs. Methods:
   the tree of each decision in :mod:`milp.tree`, its column pool and branching nodes
   in :mod:`milp.columns`, its subset-row cut
   separation in :mod:`milp.cuts`, the readiness of its compiled functions in
-  :mod:`milp.compiling`, its route listing in :mod:`milp.enumeration`.
+  :mod:`milp.compiling` (cached where :mod:`milp.jit` finds a writable folder), its
+  route listing in :mod:`milp.enumeration`.
 - :mod:`milp.branchcut`: branch-and-cut over a three-index model (robots' own edge
   copies, subtour cuts separated by minimum cuts): the least makespan with few long
-  routes; :mod:`milp.race` runs it against branch-and-price in another process.
+  routes; :mod:`milp.race` runs it against branch-and-price in another process, which
+  ends with its parent (:mod:`milp.orphans`).
 - :mod:`milp.cvx`: the arc-flow model written in cvxpy, for reading (imported on demand,
   ``from milp import cvx``: cvxpy takes most of a second to load).
 - :mod:`milp.bounds`: spanning-tree bounds every model starts from.

@@ -109,7 +109,7 @@ from milp.bounds import makespan_lower_bound as tree_makespan_bound
 from milp.bounds import robots_lower_bound as tree_robots_bound
 from milp import colgen, enumeration, ngroute
 from milp.columns import Node, Pool
-from milp.compiling import COMPILE_SECONDS, compile_rarely_used, ready_within
+from milp.compiling import COMPILE_SECONDS, announce_compiling, compile_rarely_used, ready_within
 from milp.cuts import cut_memory, popcount, violated_triples
 from milp.highs import make_lp, new_highs
 from milp.merge import Merged, checked_start, merge_zero_distances, model_result
@@ -200,6 +200,7 @@ class _Search:
     """Column generation and branching over one pool (merged matrix, route kind)."""
 
     def __init__(self, D: np.ndarray, *, tours: bool, stop_at: float | None) -> None:
+        announce_compiling()
         self.m = len(D) - 1
         self.tours = tours
         self.pricing = ngroute.Pricing(D, tours=tours, ng_size=ngroute.NG_SIZE)

@@ -2,23 +2,37 @@
 
 The pricing (:mod:`milp.ngroute`), the route listing (:mod:`milp.enumeration`) and the
 cut separation (:mod:`milp.cuts`) are numba functions, compiled on their first call and
-cached on disk (``cache=True``) for later processes.
+cached on disk (``cache=True``, in a folder :mod:`milp.jit` found writable) for later
+processes. A process about to compile them says so once on stderr
+(:func:`announce_compiling`).
 """
 
 from __future__ import annotations
+
+import sys
 
 import numpy as np
 from numba.core.dispatcher import Dispatcher
 
 from milp import cuts, enumeration, ngroute
+from milp.jit import CACHE_FOLDER
 
-__all__ = ["COMPILE_SECONDS", "ready_within", "compile_rarely_used", "jitted", "compiled"]
+__all__ = ["COMPILE_SECONDS", "ready_within", "compile_rarely_used", "jitted", "compiled", "announce_compiling",
+           "COMPILING_MESSAGE"]
 
 #: Seconds to allow for compiling the pricing on its first use, when numba's on-disk cache
 #: does not hold it yet (measured 9.9 s on a shared 2-core EPYC, 7.1 s of it the
 #: labelling; twice that for slower machines). Later runs load it from the cache in a
 #: fraction of a second.
 COMPILE_SECONDS = 20.0
+
+#: What :func:`announce_compiling` prints when numba's cache does not hold the functions.
+COMPILING_MESSAGE = ("parcover: compiling the branch-and-price pricing code once (about 10-20 s); "
+                     "later runs load it from the cache")
+#: The same when no folder takes numba's cache (:data:`milp.jit.CACHE_FOLDER` is None).
+COMPILING_UNCACHED_MESSAGE = ("parcover: compiling the branch-and-price pricing code (about 10-20 s); no "
+                              "folder is writable for numba's cache, so every run compiles it (set NUMBA_CACHE_DIR)")
+_announced = False
 
 
 def ready_within(seconds: float | None) -> bool:
@@ -58,3 +72,16 @@ def compiled(function: Dispatcher) -> bool:
         return bool(function._cache._cache_file._load_index())
     except Exception:  # numba's cache internals: when they change, assume a compile
         return False
+
+
+def announce_compiling() -> None:
+    """Say on stderr, once per process, that the compiled functions are about to be
+    compiled, when some are neither loaded nor in numba's on-disk cache (:func:`compiled`);
+    nothing when they are."""
+    global _announced
+    if _announced:
+        return
+    _announced = True
+    if not all(map(compiled, jitted())):
+        print(COMPILING_MESSAGE if CACHE_FOLDER is not None else COMPILING_UNCACHED_MESSAGE, file=sys.stderr,
+              flush=True)

@@ -8,7 +8,8 @@ cut's limited memory, are :func:`milp.ngroute.cut_coefficients`.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from milp.jit import njit
 
 __all__ = ["violated_triples", "popcount", "cut_memory"]
 

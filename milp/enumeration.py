@@ -48,8 +48,8 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
+from milp.jit import njit
 from milp.ngroute import _completion_table, _grid_step, _grow
 
 __all__ = ["Family", "routes_within_gap"]

@@ -100,7 +100,9 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, objmode
+from numba import objmode
+
+from milp.jit import njit
 
 __all__ = ["Pricing", "PricingResult", "cut_coefficients", "ng_memories", "NG_SIZE", "MAX_GRID"]
 

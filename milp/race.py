@@ -6,7 +6,8 @@ questions in seconds that the other does not prove in minutes (``milp/README.md`
 Each entrant runs in a fresh interpreter (``python -m milp.race``, the question pickled
 on its standard input, the answer on its standard output): unlike ``multiprocessing``
 this never imports the caller's main script again, nor inherits the HiGHS thread pool
-of the parent without its threads. Every entrant gets the same time limit; the race
+of the parent without its threads. An entrant ends with its parent (:mod:`milp.orphans`):
+a killed solve leaves none running. Every entrant gets the same time limit; the race
 ends when one proves its answer (the others are stopped), when every entrant has
 answered, or when the time is up.
 """
@@ -25,6 +26,7 @@ import time
 from typing import Any
 
 from milp import progress
+from milp.orphans import exit_with_parent
 from milp.result import MilpResult
 
 __all__ = ["race", "cores", "START_SECONDS"]
@@ -80,9 +82,9 @@ def race(entrants: dict[str, str], args: tuple, kwargs: dict[str, Any],
             errors[name] = tempfile.TemporaryFile()
             environment, log_fd = progress.entrant_environment(name)
             try:
-                process = subprocess.Popen([sys.executable, "-m", "milp.race"], stdin=subprocess.PIPE,
-                                           stdout=subprocess.PIPE, stderr=errors[name], env=environment,
-                                           pass_fds=() if log_fd is None else (log_fd,))
+                process = subprocess.Popen([sys.executable, "-m", "milp.race", str(os.getpid())],
+                                           stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=errors[name],
+                                           env=environment, pass_fds=() if log_fd is None else (log_fd,))
             finally:
                 if log_fd is not None:
                     os.close(log_fd)
@@ -133,7 +135,9 @@ def _number(value: float | None) -> str:
 
 def _main() -> None:
     """Entrant: read ``(target, args, kwargs)`` pickled from stdin, write the answer pickled
-    to stdout (the solvers' own output, if any, goes to stderr)."""
+    to stdout (the solvers' own output, if any, goes to stderr). It ends with the process
+    that started it, whose id is its argument (:func:`milp.orphans.exit_with_parent`)."""
+    exit_with_parent(int(sys.argv[1]))
     target, args, kwargs = pickle.load(sys.stdin.buffer)
     progress.log_as_entrant()
     answer_fd = os.dup(1)

@@ -7,6 +7,8 @@
   weights exceed the straight line (a non-Euclidean metric).
 
 The same arguments always give the same instance (numpy's ``default_rng(seed)``).
+Sizes whose instance would not fit in memory are refused before anything is built
+(:mod:`parcover.memory`).
 """
 
 from __future__ import annotations
@@ -18,8 +20,9 @@ import numpy as np
 
 from parcover.errors import InputError
 from parcover.instance import Instance, check_whole, finite_float
+from parcover.memory import Footprint, check_memory, instance_footprint
 
-__all__ = ["grid", "star", "random_points", "random_graph"]
+__all__ = ["grid", "star", "random_points", "random_graph", "footprint"]
 
 Layout = Literal["uniform", "clustered"]
 StartPlacement = Literal["random", "center", "corner"]
@@ -37,6 +40,7 @@ def grid(rows: int = 3, cols: int = 3) -> Instance:
     check_whole(cols, "cols", 1)
     if rows * cols < 2:
         raise InputError("A grid needs at least 2 cells.")
+    check_memory(footprint("grid", rows=rows, cols=cols).peak, f"A {rows} x {cols} grid")
 
     def cell(r: int, c: int) -> str:
         return f"r{r}c{c}"
@@ -60,6 +64,7 @@ def star(n: int = 6, radius: float = 1.0) -> Instance:
     check_whole(n, "n", 1)
     if finite_float(radius) is None or radius <= 0:
         raise InputError(f"radius must be a positive number, got {radius!r}.")
+    check_memory(footprint("star", n=n).peak, f"A star of {n} KPOIs")
     angles = 2 * np.pi * np.arange(n) / n
     points = np.vstack([[0.0, 0.0], radius * np.column_stack([np.cos(angles), np.sin(angles)])])
     names = ["s", *(str(k) for k in range(1, n + 1))]
@@ -91,6 +96,7 @@ def random_points(
         raise InputError(f"Unknown start placement {start!r}; expected random, center or corner.")
     if finite_float(size) is None or size <= 0:
         raise InputError(f"size must be a positive number, got {size!r}.")
+    check_memory(footprint("random", n=n).peak, f"A random instance of {n} KPOIs")
     rng = np.random.default_rng(seed)
     if layout == "uniform":
         kpois = rng.uniform(0, size, (n, 2))
@@ -134,6 +140,7 @@ def random_graph(
         raise InputError(f"size must be a positive number, got {size!r}.")
     if finite_float(detour) is None or detour < 0:
         raise InputError(f"detour must be a number >= 0, got {detour!r}.")
+    check_memory(footprint("graph", n=n, virtual=virtual).peak, f"A graph of {n} KPOIs and {virtual} virtual nodes")
     rng = np.random.default_rng(seed)
     total = n + virtual + 1
     points = np.round(rng.uniform(0, size, (total, 2)), 2)
@@ -158,6 +165,32 @@ def random_graph(
         edges=edges,
         name=f"graph-n{n}-v{virtual}-s{seed}",
     )
+
+
+def footprint(kind: str, *, n: int = 0, rows: int = 0, cols: int = 0, virtual: int | None = None) -> Footprint:
+    """Memory of the instance a generator builds from these sizes, known before building it.
+
+    Parameters
+    ----------
+    kind
+        ``"grid"`` (``rows``, ``cols``), ``"star"`` or ``"random"`` (``n``), ``"graph"``
+        (``n``, ``virtual``, default ``2 n``).
+
+    Returns
+    -------
+    parcover.memory.Footprint
+        From :func:`parcover.memory.instance_footprint` with the generator's node and
+        edge counts.
+    """
+    if kind == "grid":
+        cells = rows * cols
+        return instance_footprint(cells - 1, cells, rows * (cols - 1) + (rows - 1) * cols)
+    if kind == "graph":
+        total = n + (2 * n if virtual is None else virtual) + 1
+        return instance_footprint(n, total, 3 * total)  # a planar triangulation: under 3 edges per node
+    if kind in ("random", "star"):
+        return instance_footprint(n)
+    raise InputError(f"Unknown generator {kind!r}; expected grid, star, random or graph.")
 
 
 def _delaunay_pairs(points: np.ndarray, delaunay: type) -> list[tuple[int, int]]:

@@ -22,7 +22,7 @@ of 1e-9, design.md section 1) or 0, and the cost of any route and its square are
 finite floats (a route costs at most ``2 (n + 1)`` times the largest distance; the
 heuristics combine costs, and ``best`` failed on coordinates near 1e200). An instance
 whose distance matrix would not fit in the memory available is refused before it is
-allocated.
+allocated (:mod:`parcover.memory`).
 """
 
 from __future__ import annotations
@@ -30,7 +30,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import numbers
-import os
 import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -40,6 +39,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from parcover.errors import InputError
+from parcover.memory import check_memory, instance_footprint
 
 if TYPE_CHECKING:
     import scipy.sparse as sp
@@ -168,7 +168,8 @@ class Instance:
                     f"Missing coordinates for {role} {missing[0]!r} (needed when there are no edges)."
                 )
             xy = np.array([coordinates[v] for v in key], dtype=float)
-            _check_memory(_matrix_bytes(len(key), len(key)), len(kpois))
+            pairs = len(key) * (len(key) - 1) // 2 if self.metric == "tsplib" else 0  # rounded weights as edges
+            check_memory(instance_footprint(len(kpois), edges=pairs).peak, f"An instance of {len(kpois)} KPOIs")
             if self.metric == "euclidean":
                 set_(self, "edges", None)
                 set_(self, "_nodes", key)
@@ -208,7 +209,8 @@ class Instance:
         cols = np.fromiter((nodes[v] for _, v, _ in edges), dtype=np.int64, count=m)
         weights = np.fromiter((w for _, _, w in edges), dtype=float, count=m)
         _check_path_sums(weights, len(nodes))
-        _check_memory(_matrix_bytes(len(key), len(nodes)), len(key) - 1)
+        check_memory(instance_footprint(len(key) - 1, len(nodes), m).peak,
+                     f"An instance of {len(key) - 1} KPOIs and {len(nodes)} nodes")
         graph = _lightest_edge_graph(rows, cols, weights, len(nodes))
         key_nodes = np.array([nodes[v] for v in key], dtype=np.int64)
         dist, pred = dijkstra(graph, directed=False, indices=key_nodes, return_predecessors=True)
@@ -658,46 +660,6 @@ def _check_scale(distances: np.ndarray, n: int) -> np.ndarray:
             "tolerance of 1e-9; use a smaller unit."
         )
     return distances
-
-
-def _matrix_bytes(rows: int, cols: int) -> int:
-    """Peak bytes of building a ``rows x cols`` distance matrix (three float arrays of it)."""
-    return 3 * 8 * rows * cols
-
-
-def _check_memory(needed: int, n: int) -> None:
-    """Refuse, before allocating, a matrix larger than the memory available."""
-    available = _available_memory()
-    if available is not None and needed > available:
-        raise InstanceError(
-            f"An instance of {n} KPOIs needs about {needed / 2**30:.1f} GiB for its distances, more than "
-            f"the {available / 2**30:.1f} GiB of memory available."
-        )
-
-
-def _available_memory() -> int | None:
-    """Bytes of memory available to this process (Linux ``MemAvailable`` and cgroup limit), if known."""
-    limits = []
-    try:
-        with open("/proc/meminfo", encoding="ascii") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    limits.append(int(line.split()[1]) * 1024)
-    except (OSError, ValueError):
-        pass
-    try:
-        with open("/sys/fs/cgroup/memory.max", encoding="ascii") as f:
-            text = f.read().strip()
-        with open("/sys/fs/cgroup/memory.current", encoding="ascii") as f:
-            limits.append(int(text) - int(f.read().strip()))
-    except (OSError, ValueError):  # no cgroup v2 limit ("max" is not a number)
-        pass
-    if not limits and hasattr(os, "sysconf"):
-        try:
-            limits.append(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-        except (OSError, ValueError):
-            pass
-    return min(limits) if limits else None
 
 
 def _straight_line(u: str, v: str, coordinates: Mapping[str, Point] | None) -> float | None:

@@ -9,9 +9,10 @@
 
 Every problem with a file raises :class:`FileFormatError` (an
 :class:`~parcover.errors.InputError`) with one line naming the file and the problem:
-only regular files up to :data:`MAX_FILE_BYTES` are read (a FIFO would block, a device
-never end), and JSON with duplicate keys or nested deeper than Python can parse is
-refused rather than half-read.
+only regular files up to :data:`MAX_FILE_BYTES` whose parsing fits in memory
+(:mod:`parcover.memory`) are read (a FIFO would block, a device never end), and JSON
+with duplicate keys or nested deeper than Python can parse is refused rather than
+half-read.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from typing import Any
 
 from parcover.errors import InputError
 from parcover.instance import Instance, InstanceError, MapInfo, Metric, _first_duplicate
+from parcover.memory import check_memory, file_bytes, format_bytes
 from parcover.question import Question
 
 __all__ = [
@@ -121,6 +123,7 @@ def _read_text(path: Path) -> str:
         raise FileFormatError(
             f"{path}: {info.st_size / 2**20:.0f} MiB is larger than the {MAX_FILE_BYTES // 2**20} MiB parcover reads."
         )
+    check_memory(file_bytes(info.st_size), f"{path} ({format_bytes(info.st_size)} to parse)")
     try:
         return path.read_text(encoding="utf-8")
     except UnicodeDecodeError:

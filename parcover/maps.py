@@ -35,6 +35,7 @@ from shapely.geometry.polygon import orient
 from shapely.ops import polygonize, unary_union
 
 from parcover.instance import Instance, InstanceError, MapInfo, check_whole
+from parcover.memory import check_memory, instance_footprint, map_bytes
 
 __all__ = [
     "FreeSpace",
@@ -104,23 +105,58 @@ def read_free_mask(image: str | os.PathLike[str] | np.ndarray) -> np.ndarray:
 
     ``image`` is a file (read with matplotlib, any colour mode) or an array of grey
     levels in ``[0, 1]`` or ``[0, 255]``.
+
+    Raises
+    ------
+    MapError
+        For a missing or unreadable file, or more pixels than Pillow decodes
+        (``PIL.Image.MAX_IMAGE_PIXELS``: a possible decompression bomb).
+    parcover.memory.MemoryLimitError
+        Before decoding, when turning the image into an instance would take more
+        memory than there is (:func:`parcover.memory.map_bytes`, from the file's header).
     """
     if isinstance(image, np.ndarray):
+        if image.ndim not in (2, 3) or not image.size:
+            raise MapError(f"An image array has rows, columns and maybe colour bands, not shape {image.shape}.")
+        height, width, bands = *image.shape[:2], image.shape[2] if image.ndim == 3 else 1
+        check_memory(map_bytes(height, width, bands), f"A map of {width} x {height} pixels")
         a = image.astype(float)
         if a.max() > 1.0:
             a = a / 255.0
     else:
         import matplotlib.image as mpimg
 
+        height, width, bands = _image_header(image)
+        check_memory(map_bytes(height, width, bands), f"{image} ({width} x {height} pixels)")
         try:
             a = np.asarray(mpimg.imread(os.fspath(image)), dtype=float)
-        except FileNotFoundError:
-            raise MapError(f"{image}: no such image file.") from None
         except (OSError, ValueError) as exc:  # PIL's UnidentifiedImageError is an OSError
             raise MapError(f"{image}: not a readable image ({exc}).") from None
     if a.ndim == 3:
         a = a[..., :3].mean(axis=2)
     return a > 0.9
+
+
+def _image_header(image: str | os.PathLike[str]) -> tuple[int, int, int]:
+    """Height, width and colour bands (after matplotlib's conversion) of an image file,
+    from its header: Pillow opens lazily, nothing is decoded."""
+    import warnings
+
+    from PIL import Image
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", Image.DecompressionBombWarning)
+            with Image.open(os.fspath(image)) as im:
+                width, height = im.size
+                bands = 4 if im.mode == "P" else len(im.getbands())  # palettes become RGBA
+    except FileNotFoundError:
+        raise MapError(f"{image}: no such image file.") from None
+    except (Image.DecompressionBombError, Image.DecompressionBombWarning) as exc:
+        raise MapError(f"{image}: refused as a possible decompression bomb: {exc}") from None
+    except (OSError, ValueError) as exc:  # PIL's UnidentifiedImageError is an OSError
+        raise MapError(f"{image}: not a readable image ({exc}).") from None
+    return height, width, bands
 
 
 def _scale_pair(metres_per_pixel: float | Sequence[float]) -> XY:
@@ -227,6 +263,8 @@ def _random_start(space: FreeSpace, seed: int) -> XY:
     rows, cols = np.nonzero(space.mask)
     xy = space.pixel_centres(rows, cols)
     xy = xy[shapely.contains_xy(largest, xy[:, 0], xy[:, 1])]
+    if not len(xy):  # a free area of a pixel or two, whose traced outline holds no pixel centre
+        raise MapError("The map's free space is too small to stand in: no free pixel lies inside its traced outline.")
     rng = np.random.default_rng([seed, 1])
     x, y = xy[rng.integers(len(xy))]
     return float(x), float(y)
@@ -438,6 +476,9 @@ def instance_from_map(
         for i, p in enumerate(positions, 1):
             _check_position(space, piece, p, f"KPOI {i}")
     points = [s, *positions]
+    # at worst the free space is one convex cell and every pair of points is an edge
+    check_memory(instance_footprint(len(positions), len(points), len(points) * len(positions) // 2).peak,
+                 f"A map instance of {len(positions)} KPOIs")
     if graph == "visibility":
         extra, pairs = visibility_edges(piece, points, eps=1e-6 * min(space.scale))
     else:

@@ -92,9 +92,11 @@ questions skipped; a method's question with only part of its rows is recomputed.
 from __future__ import annotations
 
 import concurrent.futures
+import itertools
 import json
 import logging
 import math
+import multiprocessing
 import os
 import platform
 import sys
@@ -107,6 +109,7 @@ import pandas as pd
 
 from parcover.errors import InputError
 from parcover.instance import Instance
+from parcover.memory import Footprint
 from parcover.problem import MethodInfo, Problem, meets_deadline
 from parcover.result import Result, RoutesKind, Status, gap as solver_gap
 
@@ -251,14 +254,20 @@ def parse_spec(spec: str) -> list[Instance]:
     Raises
     ------
     InputError
-        With one line naming what is wrong in the spec.
+        With one line naming what is wrong in the spec, or how much memory its
+        instances would need when that is more than there is (before building any).
     """
-    from parcover import generate
+    kind, values = _spec_values_by_key(spec)
+    _check_spec_memory(spec, kind, values, 0)
+    return _spec_instances(kind, values)
 
+
+def _spec_values_by_key(spec: str) -> tuple[str, dict[str, Sequence[int]]]:
+    """The generator of a spec and the values of each of its keys, defaults filled in."""
     kind, *parts = spec.strip().split(":")
     if kind not in _GENERATOR_KEYS:
         raise InputError(f"Unknown generator {kind!r} in {spec!r}; expected one of {', '.join(_GENERATOR_KEYS)}.")
-    values: dict[str, list[int]] = {}
+    values: dict[str, Sequence[int]] = {}
     for part in parts:
         key, sep, text = part.partition("=")
         if not sep or key not in _GENERATOR_KEYS[kind]:
@@ -273,6 +282,13 @@ def parse_spec(spec: str) -> list[Instance]:
             if default is None:
                 raise InputError(f"{spec!r} lacks {key}=...; {kind} needs it.")
             values[key] = [default]
+    return kind, values
+
+
+def _spec_instances(kind: str, values: dict[str, Sequence[int]]) -> list[Instance]:
+    """One generated instance per combination of ``values``, the first key varying slowest."""
+    from parcover import generate
+
     build = {
         "random": lambda n, seeds: generate.random_points(n, seeds),
         "graph": lambda n, seeds, virtual: generate.random_graph(n, seeds, virtual=None if virtual < 0 else virtual),
@@ -280,7 +296,38 @@ def parse_spec(spec: str) -> list[Instance]:
         "star": lambda n: generate.star(n),
     }[kind]
     keys = list(_GENERATOR_KEYS[kind])
-    return [build(**dict(zip(keys, combo))) for combo in _product([values[k] for k in keys])]
+    return [build(**dict(zip(keys, combo))) for combo in itertools.product(*(values[k] for k in keys))]
+
+
+def _check_spec_memory(spec: str, kind: str, values: dict[str, Sequence[int]], kept: int) -> int:
+    """Refuse a spec whose instances, on top of ``kept`` bytes of instances already
+    loaded, need more memory than there is; else the bytes its instances keep.
+
+    The instances are kept together, each built in turn (:func:`parcover.generate.footprint`).
+    A first check with every instance as small as the smallest refuses a spec of
+    billions of instances at once; then the sizes are summed (seeds do not change them).
+    """
+    from parcover import generate
+    from parcover.memory import check_memory
+
+    def footprint(sizes: dict[str, int]) -> Footprint:
+        if kind == "graph" and sizes["virtual"] < 0:
+            sizes = {**sizes, "virtual": 2 * sizes["n"]}
+        return generate.footprint(kind, **sizes)
+
+    keys = [k for k in _GENERATOR_KEYS[kind] if k != "seeds"]
+    copies = len(values.get("seeds", [0]))
+    count = copies * math.prod(len(values[k]) for k in keys)
+    what = f"{spec!r} ({count} instance{'s' if count != 1 else ''})"
+    least = footprint({k: values[k][0] if isinstance(values[k], range) else min(values[k]) for k in keys})
+    check_memory(kept + count * least.kept + least.peak - least.kept, what)
+    total, peak = kept, 0
+    for combo in itertools.product(*(values[k] for k in keys)):
+        each = footprint(dict(zip(keys, combo)))
+        total += copies * each.kept
+        peak = max(peak, each.peak - each.kept)
+    check_memory(total + peak, what)
+    return total - kept
 
 
 def load_instances(instances: InstanceInput | Iterable[InstanceInput]) -> list[Instance]:
@@ -290,25 +337,36 @@ def load_instances(instances: InstanceInput | Iterable[InstanceInput]) -> list[I
     Raises
     ------
     InputError
-        On a missing file, a bad spec, no instance at all, or two instances with
-        one name (rows are keyed by name).
+        On a missing file, a bad spec, no instance at all, two instances with
+        one name (rows are keyed by name), or more instances than memory holds
+        (a spec is refused before any of its instances is built).
     """
     from parcover.io import read_instance
+    from parcover.memory import check_memory, footprint_of
 
     items = [instances] if isinstance(instances, (Instance, str, os.PathLike)) else list(instances)
     found: list[Instance] = []
+    kept = 0
     for item in items:
+        loaded: Iterable[Instance]
         if isinstance(item, Instance):
-            found.append(item)
+            loaded = [item]
         elif Path(item).is_dir():
             files = sorted(p for p in Path(item).iterdir() if p.suffix.lower() in (".json", ".tsp"))
-            found += [read_instance(p) for p in files]
+            loaded = (read_instance(p) for p in files)  # each counted before the next is read
         elif Path(item).is_file():
-            found.append(read_instance(item))
+            loaded = [read_instance(item)]
         elif isinstance(item, str) and item.split(":")[0] in _GENERATOR_KEYS:
-            found += parse_spec(item)
+            kind, values = _spec_values_by_key(item)
+            kept += _check_spec_memory(item, kind, values, kept)
+            found += _spec_instances(kind, values)
+            continue
         else:
             raise InputError(f"{str(item)!r} is neither a file, a folder nor a generator spec.")
+        for instance in loaded:
+            kept += footprint_of(instance).kept
+            check_memory(kept, f"Loading the instances up to {instance.name!r}")
+            found.append(instance)
     if not found:
         raise InputError("No instances given.")
     names = [inst.name for inst in found]
@@ -527,6 +585,7 @@ def gaps(
     }
     workers = min(2, os.cpu_count() or 1) if workers is None else _whole(workers, "workers", 1)
     insts = load_instances(instances)
+    _check_report_memory(insts, len(kinds), len(grid), len(infos), workers if scheduler is None else 0)
     order = _sort_order(insts, kinds, grid, infos)
     kept = _kept_rows(csv_path, settings) if csv_path is not None else _empty()
     _check_request(kept, order, csv_path)
@@ -540,6 +599,19 @@ def gaps(
     if csv_path is not None:
         _write_csv_atomically(table, Path(csv_path))
     return table
+
+
+def _check_report_memory(insts: list[Instance], route_kinds: int, questions: int, methods: int, workers: int) -> None:
+    """Refuse, before any solve, a report whose instances, rows (one per instance x
+    route kind x question x method, two for a method that drops the deadline) and
+    workers' instances (each worker builds one at a time) need more memory than there is."""
+    from parcover.memory import check_memory, footprint_of, report_rows_bytes
+
+    sizes = [footprint_of(inst) for inst in insts]
+    rows = report_rows_bytes(len(insts), route_kinds, questions, methods)
+    needed = sum(f.kept for f in sizes) + rows + workers * max(f.peak for f in sizes)
+    check_memory(needed, f"A report of {len(insts)} instances x {route_kinds} route kinds x {questions} questions "
+                 f"x {methods} methods")
 
 
 def _pending_tasks(
@@ -600,13 +672,34 @@ def _run(tasks: list[_Task], workers: int, scheduler: str | None) -> Iterator[tu
         for task in tasks:
             yield from ((1, rows) for rows in _unit_rows(task))
         return
-    with concurrent.futures.ProcessPoolExecutor(max_workers=workers) as pool:
+    from milp.orphans import exit_with_parent
+
+    # Workers end with this process, whatever ends it (SIGKILL included): no orphans.
+    context = multiprocessing.get_context()
+    parent = None if context.get_start_method() == "forkserver" else os.getpid()
+    pool = concurrent.futures.ProcessPoolExecutor(
+        max_workers=workers, mp_context=context, initializer=exit_with_parent, initargs=(parent,)
+    )
+    finished = False
+    try:
         futures = {pool.submit(_task_rows, task): task for task in tasks}
-        try:
-            for future in concurrent.futures.as_completed(futures):
-                yield len(futures[future].units()), future.result()
-        finally:
-            pool.shutdown(wait=False, cancel_futures=True)
+        for future in concurrent.futures.as_completed(futures):
+            yield len(futures[future].units()), future.result()
+        finished = True
+    finally:
+        if not finished:  # an error, an interrupt, or the caller stopped early: the rest is abandoned
+            _stop_workers(pool)
+        pool.shutdown(wait=finished, cancel_futures=True)
+
+
+def _stop_workers(pool: concurrent.futures.ProcessPoolExecutor) -> None:
+    """End a pool's workers now, their tasks abandoned (Python 3.14's ``terminate_workers``;
+    before it, each worker process)."""
+    if hasattr(pool, "terminate_workers"):
+        pool.terminate_workers()
+        return
+    for process in list((pool._processes or {}).values()):
+        process.terminate()
 
 
 def _run_on_dask(tasks: list[_Task], scheduler: str) -> Iterator[tuple[int, list[dict[str, Any]]]]:
@@ -1089,24 +1182,17 @@ def _comparison_args(
 # ---------------------------------------------------------------- small helpers
 
 
-def _spec_values(text: str, spec: str) -> list[int]:
-    """``7``, ``6..10`` (inclusive) or ``1,3,5`` as a list of whole numbers."""
+def _spec_values(text: str, spec: str) -> Sequence[int]:
+    """``7``, ``6..10`` (inclusive, a ``range``: not built) or ``1,3,5`` as whole numbers."""
     try:
         if ".." in text:
             low, high = (int(x) for x in text.split(".."))
             if high < low:
                 raise ValueError
-            return list(range(low, high + 1))
+            return range(low, high + 1)
         return [int(x) for x in text.split(",")]
     except ValueError:
         raise InputError(f"Bad value {text!r} in {spec!r}; expected N, A..B or a list A,B,C.") from None
-
-
-def _product(lists: list[list[int]]) -> list[tuple[int, ...]]:
-    combos: list[tuple[int, ...]] = [()]
-    for values in lists:
-        combos = [c + (v,) for c in combos for v in values]
-    return combos
 
 
 def _whole(value: Any, what: str, least: int) -> int:

@@ -24,7 +24,6 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 import parcover as pc
-from parcover import instance as instance_module
 from parcover.cli import main
 from parcover.io import instance_from_dict
 
@@ -87,12 +86,13 @@ def test_a_fifo_is_refused_without_blocking(tmp_path):
 
 
 def test_an_instance_too_large_for_memory_is_refused_before_allocating(capsys, tmp_path, monkeypatch):
-    # 2000 points need 3 x 2001^2 x 8 bytes (96 MB) to build the distances; pretend 1 MB is free
-    monkeypatch.setattr(instance_module, "_available_memory", lambda: 2**20)
+    # 2000 points need 3 x 2001^2 x 8 bytes (96 MB) to build the distances; allow 1 MB
+    monkeypatch.setenv("PARCOVER_MEMORY_LIMIT", "1MB")
     path = tmp_path / "big.json"
     points = {"s": [0, 0], **{f"k{i}": [i, i % 7] for i in range(1, 2001)}}
     path.write_text(json.dumps({"start": "s", "kpois": list(points)[1:], "coordinates": points}))
-    _refused(capsys, ["solve", str(path)], "more than the 0.0 GiB of memory available")
+    _refused(capsys, ["solve", str(path)], "An instance of 2000 KPOIs needs about 98.1 MB of memory, more than the "
+             "1.0 MB allowed by PARCOVER_MEMORY_LIMIT")
 
 
 def test_out_is_never_the_instance(capsys, tmp_path):
