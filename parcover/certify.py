@@ -2,7 +2,7 @@
 
 ``parcover verify --certify`` and ``pc.verify(..., certify=True)`` ask the file's own
 question again with an exact method other than the one the file names (docs/format.md
-section 3), so that a claim is never checked by the code that made it:
+section 4), so that a claim is never checked by the code that made it:
 
 - the first of ``setpart`` (at most :data:`milp.setpart.MAX_KPOIS` KPOIs),
   ``branchprice`` and ``compact`` that is not the file's method nor one that ``exact``
