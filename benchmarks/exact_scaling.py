@@ -213,7 +213,7 @@ def run(config: Config) -> Section:
         f"{parcover_exact.ROOT_FIRST_MAX} KPOIs only when its root bound does not prove "
         "`best`'s construction; their seconds include all of these), set partitioning (`milp.setpart`: Held-Karp routes, then the fewest "
         "routes by inclusion-exclusion counting), a naive big-M MTZ model and the plain "
-        "arc-flow model of `formulations.md` in HiGHS (no pruning, no warm start; "
+        "arc-flow model (Kara 2011 style) in HiGHS (no pruning, no warm start; "
         "`benchmarks/naive_models.py`), and OR-Tools CP-SAT (`benchmarks/peers/cpsat.py`, 2 "
         "workers, distances x 1e4 rounded down: its bound is valid for the real problem, its "
         "`optimal` is exact to (n+1)/1e4). Seconds are each solver's own wall time (CP-SAT's "

@@ -37,7 +37,8 @@ route's cost.
 
 Plain arc-flow model (:func:`arcflow_min_makespan`, :func:`arcflow_min_robots`)
 -----------------------------------------------------------------------------
-Exactly "A plain arc-flow model" of ``formulations.md`` (Kara 2011 style). End node
+A plain arc-flow model (Kara 2011 style; the compact model without its pruning,
+bounds and warm start). End node
 :math:`E`: a sink with :math:`d_{iE} = 0` (paths) or the start again, :math:`d_{iE} = d_{i0}`
 (tours). Arcs :math:`(0, j)`, :math:`(i, j)` for :math:`i \ne j \in N`, :math:`(i, E)`.
 :math:`r_j = 0` (paths) or :math:`d_{j0}` (tours), :math:`r_E = 0`. Variables

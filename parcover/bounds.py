@@ -1,4 +1,4 @@
-"""Cheap proven lower bounds that every method reports (design.md section 4).
+"""Cheap proven lower bounds that every method reports (docs/format.md section 4).
 
 - Makespan: ``c_max`` for paths and ``2 c_max`` for tours (paper, Prop. 1), and the
   spanning-tree bound: the ``k`` routes together connect the start and every KPOI, so

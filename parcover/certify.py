@@ -1,8 +1,8 @@
 """Re-proving a solution file's ``optimal``, ``infeasible`` and ``bound`` claims.
 
 ``parcover verify --certify`` and ``pc.verify(..., certify=True)`` ask the file's own
-question again with an exact method other than the one the file names (design.md
-section 3), so that a claim is never checked by the code that made it:
+question again with an exact method other than the one the file names (docs/format.md
+section 4), so that a claim is never checked by the code that made it:
 
 - the first of ``setpart`` (at most :data:`milp.setpart.MAX_KPOIS` KPOIs),
   ``branchprice`` and ``compact`` that is not the file's method nor one that ``exact``

@@ -1,4 +1,4 @@
-"""The ``parcover`` command line (design.md section 3): parse, call, print.
+"""The ``parcover`` command line (docs/format.md section 3): parse, call, print.
 
 Exit status: 0 on success (an ``infeasible`` answer is a success), 1 when ``verify``
 finds the solution invalid, 2 with one line on stderr for usage errors and bad input.
@@ -30,7 +30,7 @@ __all__ = ["main", "run"]
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse with one-line errors (exit 2), as design.md section 3 asks."""
+    """argparse with one-line errors (exit 2), as docs/format.md section 3 says."""
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message}\n")
@@ -380,7 +380,7 @@ def _methods_epilog() -> str:
 
 
 def _add_common(p: argparse.ArgumentParser, *, routes: bool = True) -> None:
-    p.add_argument("instance", help="instance file (.json per design.md, or TSPLIB .tsp)")
+    p.add_argument("instance", help="instance file (.json, see docs/format.md, or TSPLIB .tsp)")
     if routes:
         p.add_argument("--routes", choices=("paths", "tours"), default="paths",
                        help="paths: robots stay where they finish; tours: they come home (default: paths)")
@@ -397,7 +397,8 @@ def _build_parser() -> argparse.ArgumentParser:
         "solve", help="answer one coverage question",
         description="Fewest robots within a deadline (default: the least possible makespan), "
         "or least makespan with at most K robots. A file with a question block (a counterexample, "
-        "instances/README.md) asks its own routes and limit unless --routes, --robots or --deadline is given.",
+        "instances/README.md) asks its own routes and limit unless --routes, --robots or --deadline is given. "
+        "Instance and result formats: docs/format.md; the methods: docs/methods.md.",
         epilog=_methods_epilog(), formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     _add_common(p)

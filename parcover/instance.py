@@ -3,7 +3,7 @@
 An :class:`Instance` is validated once, on construction, and is read-only afterwards:
 its arrays are not writeable and :meth:`Instance.replace` makes a modified copy.
 
-The metric is the shortest-path distance (the metric closure, design.md section 1)
+The metric is the shortest-path distance (the metric closure, docs/format.md section 1)
 between the start and the KPOIs:
 
 - with ``edges``, shortest paths in that undirected graph, whose other nodes are the
@@ -18,7 +18,7 @@ is ``kpois[i - 1]``; :attr:`Instance.distances` is the ``(n + 1) x (n + 1)`` mat
 Numbers are real numbers (Python's or numpy's, never booleans or strings) whose
 float value is finite. The distances they give must be usable by every method: the
 largest is at least :data:`MIN_SCALE` (costs are compared with an absolute tolerance
-of 1e-9, design.md section 1) or 0, and the cost of any route and its square are
+of 1e-9, docs/format.md section 1) or 0, and the cost of any route and its square are
 finite floats (a route costs at most ``2 (n + 1)`` times the largest distance; the
 heuristics combine costs, and ``best`` failed on coordinates near 1e200). An instance
 whose distance matrix would not fit in the memory available is refused before it is
@@ -47,7 +47,7 @@ if TYPE_CHECKING:
 __all__ = ["Instance", "InstanceError", "MapInfo", "ShortEdgeWarning", "Metric", "MIN_SCALE"]
 
 #: The largest distance of an instance, when not 0, must be at least this: costs are
-#: compared with an absolute tolerance of 1e-9 (design.md section 1), which must stay
+#: compared with an absolute tolerance of 1e-9 (docs/format.md section 1), which must stay
 #: below a millionth of them.
 MIN_SCALE = 1e-3
 
@@ -62,14 +62,14 @@ class InstanceError(InputError):
 class ShortEdgeWarning(UserWarning):
     """An edge is shorter than the straight line between its end coordinates.
 
-    design.md section 2 says coordinates and weights share one unit, so this hints at
+    docs/format.md section 2 says coordinates and weights share one unit, so this hints at
     mixed units; the instance is still usable.
     """
 
 
 @dataclass(frozen=True)
 class MapInfo:
-    """A background image for drawings (design.md section 2, the ``map`` block).
+    """A background image for drawings (docs/format.md section 2, the ``map`` block).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""Reading and writing instances (design.md section 2) and solution files.
+"""Reading and writing instances (docs/format.md section 2) and solution files.
 
 - JSON instance files: :func:`read_instance` / :func:`write_instance`, and the dict
   forms :func:`instance_from_dict` / :func:`instance_to_dict`.
@@ -152,7 +152,7 @@ def instance_from_dict(
     metric: Metric | None = None,
     default_name: str = "",
 ) -> Instance:
-    """An :class:`Instance` from the JSON object of design.md section 2.
+    """An :class:`Instance` from the JSON object of docs/format.md section 2.
 
     Unknown keys are ignored (files may carry extensions); an optional ``question``
     block is validated (:class:`parcover.question.Question`). ``base_dir`` is where a
@@ -184,7 +184,7 @@ def instance_from_dict(
 
 
 def instance_to_dict(instance: Instance) -> dict[str, Any]:
-    """The JSON object of design.md section 2 (keys without a value are left out)."""
+    """The JSON object of docs/format.md section 2 (keys without a value are left out)."""
     kpois = ([instance.start] if instance.start_is_kpoi else []) + list(instance.kpois)
     data: dict[str, Any] = {"name": instance.name, "start": instance.start, "kpois": kpois}
     if instance.metric != "euclidean":

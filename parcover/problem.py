@@ -1,7 +1,7 @@
 """The question asked of a method, and what a method answers.
 
 A :class:`Problem` fixes the route kind and either a robot limit (objective
-``makespan``) or a deadline (objective ``robots``); design.md section 1. Methods are
+``makespan``) or a deadline (objective ``robots``); docs/format.md section 1. Methods are
 plain callables ``method(instance, problem, *, time_limit, seed) -> Solution`` that
 work on KPOI indices; :func:`parcover.solve` turns their :class:`Solution` into a
 verified :class:`~parcover.result.Result`.
@@ -32,7 +32,7 @@ DEADLINE_ATOL = 1e-9
 
 
 def meets_deadline(cost: float, deadline: float) -> bool:
-    """design.md section 1: ``cost <= deadline * (1 + 1e-9) + 1e-9``."""
+    """docs/format.md section 1: ``cost <= deadline * (1 + 1e-9) + 1e-9``."""
     return cost <= deadline * (1 + DEADLINE_RTOL) + DEADLINE_ATOL
 
 

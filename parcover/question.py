@@ -1,7 +1,7 @@
 """The question an instance file carries: the claim it refutes and how to ask it again.
 
 An instance file may hold an optional top-level ``"question"`` block (an extension
-of design.md section 2, documented in ``instances/README.md``)::
+of docs/format.md section 2, documented in ``instances/README.md``)::
 
     "question": {
       "claim": "alg1-1-x1.5-paper-1-1-end",

@@ -1,6 +1,6 @@
 """What a solver returns: :class:`Status`, :class:`Result` and :class:`Frontier`.
 
-The JSON forms are the contract of design.md section 4.
+The JSON forms are the contract of docs/format.md section 4.
 """
 
 from __future__ import annotations
@@ -122,7 +122,7 @@ class Result:
         return None
 
     def to_dict(self) -> dict[str, Any]:
-        """The JSON object of design.md section 4, with ``note`` (:attr:`note`) when there
+        """The JSON object of docs/format.md section 4, with ``note`` (:attr:`note`) when there
         is one (an optional key, a compatible extension)."""
         return {
             "instance": self.instance,
@@ -215,7 +215,7 @@ class FrontierPoint:
 
 @dataclass(frozen=True)
 class Frontier:
-    """The robots-versus-time trade-off (design.md sections 1 and 4)."""
+    """The robots-versus-time trade-off (docs/format.md sections 1 and 4)."""
 
     instance: str
     routes_kind: RoutesKind

@@ -203,7 +203,7 @@ def score(instance: Instance, target: Target, exact: str = EXACT) -> Score:
 
 
 def save_worst(instance: Instance, target: Target, found: Score, path: str | Path) -> Path:
-    """Write the instance JSON (design.md section 2) with its ``"question"`` block
+    """Write the instance JSON (docs/format.md section 2) with its ``"question"`` block
     (:class:`parcover.question.Question`, as ``props`` writes its counterexamples)."""
     from parcover.io import write_instance
     from parcover.question import Question

@@ -1,4 +1,4 @@
-"""The command line contract of design.md section 3."""
+"""The command line contract of docs/format.md section 3."""
 
 from __future__ import annotations
 

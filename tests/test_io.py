@@ -1,4 +1,4 @@
-"""Instance files: JSON (design.md section 2) and TSPLIB."""
+"""Instance files: JSON (docs/format.md section 2) and TSPLIB."""
 
 from __future__ import annotations
 
@@ -31,7 +31,7 @@ def test_json_round_trip(instance, tmp_path):
 
 
 def test_the_design_example_reads():
-    # design.md section 2, verbatim (the map block points at an image we need not open)
+    # docs/format.md section 2, verbatim (the map block points at an image we need not open)
     data = json.loads("""{
       "name": "fig1-grid-3x3", "start": "s", "kpois": ["a", "b", "c"],
       "coordinates": {"s": [0, 0], "a": [1, 0], "b": [1, 1], "c": [0, 1]},

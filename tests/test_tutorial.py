@@ -68,3 +68,42 @@ def test_python_blocks(monkeypatch):
     for kind, body in _blocks():
         if kind == "python":
             exec(compile(body, str(TUTORIAL), "exec"), namespace)
+
+
+# -- the prose quotes the outputs ---------------------------------------------------------------
+
+QUOTE = re.compile(r"`([^`\n]+)`")
+
+
+def _sections() -> list[str]:
+    return re.split(r"^## ", TUTORIAL.read_text(), flags=re.M)[1:]
+
+
+def _quoted_numbers(section: str) -> list[str]:
+    """Quotes in the prose (outside code blocks) that hold a digit, file names and command
+    lines aside: what the page says the commands printed."""
+    prose = re.sub(r"```.*?```", "", section, flags=re.S)
+    quotes = QUOTE.findall(prose)
+    return [q for q in quotes if re.search(r"\d", q) and "/" not in q and not q.startswith(("parcover ", "--"))]
+
+
+def _collapsed(text: str) -> str:
+    return " ".join(text.split())
+
+
+def test_the_check_of_quotes_can_fail():
+    assert _quoted_numbers("## x\nwe got `robots 3` from `parcover solve a.json` in `instances/x1.json`\n") == [
+        "robots 3"]
+
+
+@pytest.mark.parametrize("number", range(len(_sections())))
+def test_quoted_numbers_are_what_the_commands_print(number):
+    section = _sections()[number]
+    quotes = _quoted_numbers(section)
+    commands = [body.partition("\n")[0][2:] for kind, body in BLOCK.findall(section) if kind == "console"]
+    if not quotes:
+        return
+    assert commands, f"section {section.splitlines()[0]!r} quotes {quotes} but runs no command"
+    printed = _collapsed("\n".join(_run(command) for command in commands))
+    missing = [q for q in quotes if _collapsed(q) not in printed]
+    assert not missing, f"section {section.splitlines()[0]!r}: not printed by its commands: {missing}"

@@ -1,4 +1,4 @@
-"""The verifier refuses every false claim of a solution file (issue 14, design.md section 3),
+"""The verifier refuses every false claim of a solution file (issue 14, docs/format.md section 4),
 and ``--certify`` re-proves the status and bound with an independent exact method."""
 
 from __future__ import annotations

@@ -86,7 +86,9 @@ Adaptations to the questions of :class:`parcover.problem.Problem`
 
 References
 ----------
-Section V of the paper (/work/shared/paper.md): Algorithm 1, Algorithm 1-1, Algorithm 2.
+H. J. Min and N. Papanikolopoulos, "The Multi-robot Coverage Problem for Optimal Coordinated
+Search with an Unknown Number of Robots", Section V: Algorithm 1, Algorithm 1-1,
+Algorithm 2. ``docs/algorithms.md`` restates them step by step with these readings.
 """
 
 from __future__ import annotations
