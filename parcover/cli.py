@@ -244,9 +244,14 @@ def _props_check(args: argparse.Namespace) -> int:
 def _worst(args: argparse.Namespace) -> int:
     from parcover.worst import report
 
-    report(budget=args.budget, seed=args.seed, out_dir=args.out_dir, report_path=args.report,
+    out_dir = args.out_dir or os.path.join(args.out, "instances")
+    report_path = args.report or os.path.join(args.out, "worst.md")
+    for flag, path in (("--out", args.out), ("--out-dir", out_dir)):
+        if os.path.exists(path) and not os.path.isdir(path):
+            raise InputError(f"{flag} {path} is a file; the search writes a folder there.")
+    report(budget=args.budget, seed=args.seed, out_dir=out_dir, report_path=report_path,
            command=args.command_line)
-    print(f"wrote {args.report}")
+    print(f"wrote {report_path} and the worst instances in {out_dir}")
     return 0
 
 
@@ -478,13 +483,18 @@ def _build_parser() -> argparse.ArgumentParser:
 
     p = commands.add_parser(
         "worst", help="adversarial search for the greedy's worst ratio to the optimum",
-        description="Search for the worst greedy/optimum ratio per claim and reading.",
+        description="Search for the worst greedy/optimum ratio per claim and reading. By default everything is "
+        "written under --out, which is no committed folder; the committed report is regenerated with "
+        "`parcover worst --budget 8 --out-dir instances/worst --report reports/worst.md`.",
     )
     p.add_argument("--budget", type=_positive_float, default=5.0, metavar="SECONDS",
                    help="seconds of search per claim and reading (default: 5)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the search (default: 0)")
-    p.add_argument("--out-dir", default="instances/worst", metavar="DIR", help="where the worst instances go")
-    p.add_argument("--report", default="reports/worst.md", metavar="FILE.md", help="the report")
+    p.add_argument("--seed", type=_seed, default=0, help="seed of the search (default: 0)")
+    p.add_argument("--out", default="worst-out", metavar="DIR",
+                   help="folder of everything written (default: worst-out)")
+    p.add_argument("--out-dir", metavar="DIR", help="where the worst instances go (default: OUT/instances)")
+    p.add_argument("--report", metavar="FILE.md",
+                   help="the report; its pictures go to a folder of the same name (default: OUT/worst.md)")
     p.set_defaults(run=_worst)
 
     p = commands.add_parser("generate", help="write a generated instance file")
