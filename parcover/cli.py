@@ -109,9 +109,9 @@ def _solve(args: argparse.Namespace) -> int:
     if args.plot:
         if not result.routes:
             raise InputError(f"No routes to draw: the answer is {result.status.value}.")
-        from parcover.plot import plot_routes
+        from parcover.plot import save_routes_plot
 
-        _draw(lambda: plot_routes(instance, result, args.plot), args.plot)
+        _draw(lambda: save_routes_plot(instance, result, args.plot), args.plot)
     _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
     return 0
 
