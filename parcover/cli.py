@@ -79,7 +79,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _solve(args: argparse.Namespace) -> int:
     # One deadline from here: reading the instance counts against --time-limit.
     clock = Deadline(args.time_limit)
-    _check_outputs(args, out=args.out, plot=args.plot, model=args.export_model)
+    frames = _frames_folder(args)
+    _check_outputs(args, out=args.out, plot=None if frames else args.plot, model=args.export_model)
     instance, question = load_question(args.instance, metric=args.distance)
     if question is not None and args.routes is None and args.robots is None and args.deadline is None:
         args.routes, args.robots, args.deadline = question.routes, question.robots, question.deadline
@@ -106,7 +107,13 @@ def _solve(args: argparse.Namespace) -> int:
         for line in result.info.get("trace", []):
             print(line)
         print()
-    if args.plot:
+    if frames:
+        from parcover.frames import save_frames
+
+        _draw(lambda: save_frames(instance, result, args.plot), args.plot)
+        print(f"wrote {len(result.info['steps'])} frames and steps.gif to {args.plot}",
+              file=sys.stderr if args.json else sys.stdout)
+    elif args.plot:
         if not result.routes:
             raise InputError(f"No routes to draw: the answer is {result.status.value}.")
         from parcover.plot import save_routes_plot
@@ -306,7 +313,24 @@ def _emit(text: str, json_text: str, out: str | None) -> None:
         write_text_atomic(out, json_text + "\n")
 
 
-def _draw(plot: Callable[[], None], path: str) -> None:
+def _frames_folder(args: argparse.Namespace) -> bool:
+    """Whether ``--plot`` names a folder (ends in a slash or exists) for the frames of ``--trace``.
+
+    Refuses a folder without ``--trace`` and a folder whose parent does not exist.
+    """
+    plot = args.plot
+    if not plot or not (plot.endswith(("/", os.sep)) or os.path.isdir(plot)):
+        return False
+    if not args.trace:
+        raise InputError(f"--plot {plot} is a folder: it takes one picture per step of --trace (method paper*); "
+                         "add --trace, or give a file name such as routes.png.")
+    parent = os.path.dirname(os.path.normpath(plot)) or "."
+    if not os.path.isdir(parent):
+        raise InputError(f"Cannot write --plot {plot}: no folder {parent}.")
+    return True
+
+
+def _draw(plot: Callable[[], object], path: str) -> None:
     """Run a drawing (before ``--out`` is written: a failed drawing leaves no result behind)."""
     try:
         plot()
@@ -402,12 +426,15 @@ def _build_parser() -> argparse.ArgumentParser:
     limits = p.add_argument_group("limits")
     limits.add_argument("--time-limit", type=_positive_float, metavar="SECONDS", help="seconds for the whole solve, reading the instance included")
     limits.add_argument("--seed", type=_seed, default=0, help="seed of randomised methods (default: 0)")
-    p.add_argument("--trace", action="store_true", help="print every step of the paper's algorithms")
+    p.add_argument("--trace", action="store_true",
+                   help="print every step of the paper's algorithms (with --plot DIR/, draw each step)")
     p.add_argument("--export-model", metavar="FILE.mps",
                    help="write the compact MILP (method exact) to an .mps or .lp file any MILP solver reads")
     p.add_argument("--json", action="store_true", help="print the result as one JSON object")
     p.add_argument("--out", metavar="FILE", help="also write the result JSON to FILE")
-    p.add_argument("--plot", metavar="FILE.png", help="draw the routes (over the map image when there is one)")
+    p.add_argument("--plot", metavar="FILE.png|DIR/",
+                   help="draw the routes to FILE.png (over the map image when there is one); with --trace and a "
+                   "folder (DIR/ or an existing one), one PNG per step of the algorithm and an animated steps.gif")
     p.set_defaults(run=_solve, routes=None)  # None: the file's question's routes, else paths
 
     p = commands.add_parser(

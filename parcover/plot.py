@@ -504,9 +504,11 @@ def new_figure(**kwargs: Any) -> Figure:
     return Figure(**kwargs)
 
 
-def save_figure(fig: Any, path: str | os.PathLike[str], *, dpi: int) -> None:
-    """Lay out, write and release a figure (every drawing of the package ends here)."""
-    fig.tight_layout()
+def save_figure(fig: Any, path: str | os.PathLike[str], *, dpi: int, tight: bool = True) -> None:
+    """Lay out (unless ``tight`` is False: a layout fixed by the caller), write and release a
+    figure (every drawing of the package ends here)."""
+    if tight:
+        fig.tight_layout()
     fig.savefig(path, dpi=dpi)
     plt.close(fig)
 
