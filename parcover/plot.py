@@ -482,12 +482,13 @@ def plot_gap_distribution(frame: Any, path: str | os.PathLike[str], *, dpi: int 
     """
     rows = frame[np.isfinite(frame["gap_to_optimum"].astype(float))]
     methods = list(dict.fromkeys(rows["method"]))
-    fig = new_figure(figsize=(1.2 * max(len(methods), 3) + 2.5, 4.2))
+    fig = new_figure(figsize=(1.2 * max(len(methods), 3) + 4.5, 4.2))
     ax = fig.add_subplot()
     if methods:
         data = [100 * rows.loc[rows["method"] == m, "gap_to_optimum"].astype(float) for m in methods]
-        ax.boxplot(data, showmeans=True)
+        box = ax.boxplot(data, showmeans=True)
         ax.set_xticks(range(1, len(methods) + 1), methods, rotation=30, ha="right")
+        _explain_boxes(ax, box)
     ax.set_xlabel("method")
     ax.set_ylabel("gap to optimum (%)")
     references = ", ".join(dict.fromkeys(frame["reference"].astype(str))) or "-"
@@ -497,6 +498,15 @@ def plot_gap_distribution(frame: Any, path: str | os.PathLike[str], *, dpi: int 
     ax.set_title(textwrap.fill(title, TITLE_WIDTH), fontsize=9)
     ax.grid(alpha=0.3, axis="y")
     save_figure(fig, path, dpi=dpi)
+
+
+def _explain_boxes(ax: Axes, box: dict[str, list[Any]]) -> None:
+    """A legend for the parts of a box plot that are drawn: median, mean, quartile box, outliers."""
+    parts = [(box["medians"], "median"), (box["means"], "mean"), (box["boxes"], "middle half (quartiles)"),
+             ([f for f in box["fliers"] if len(f.get_xdata())], "outlier (beyond 1.5 box heights)")]
+    drawn = [(artists[0], label) for artists, label in parts if artists]
+    ax.legend([a for a, _ in drawn], [label for _, label in drawn], fontsize=7, loc="upper left",
+              bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
 
 
 def new_figure(**kwargs: Any) -> Figure:
