@@ -176,9 +176,9 @@ def _frontier(args: argparse.Namespace) -> int:
         instance, args.routes, args.method, time_limit=args.time_limit, seed=args.seed, progress=progress
     )
     if args.plot:
-        from parcover.plot import plot_frontier
+        from parcover.plot import distance_unit, plot_frontier
 
-        _draw(lambda: plot_frontier(result, args.plot), args.plot)
+        _draw(lambda: plot_frontier(result, args.plot, unit=distance_unit(instance)), args.plot)
     _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
     return 0
 

@@ -45,6 +45,9 @@ __all__ = [
 
 Point = tuple[float, float]
 
+#: Colours of the methods' points on a frontier (blue is the frontier's, orange its bounds').
+_METHOD_COLOURS = ("tab:red", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan",
+                   "tab:gray", "black")
 #: Characters per title line before it wraps.
 TITLE_WIDTH = 90
 _LABEL_HALO = [patheffects.withStroke(linewidth=2.5, foreground="white")]
@@ -73,14 +76,18 @@ def question_text(result: Result, unit: str) -> str:
 
 
 def answer_text(result: Result, unit: str) -> str:
-    """Method, status and value, e.g. ``paper: feasible, 3 robots, makespan 52.3 m (bound 40 m)``."""
+    """Method, status and value, e.g. ``paper: feasible, 3 robots, makespan 52.3 m, proven bound 40 m``.
+
+    Metres follow each length; another unit is named once, at the end.
+    """
+    metres = " m" if unit == "m" else ""
     text = f"{result.method}: {result.status.value}"
     if result.makespan is not None:
-        text += f", {_plural(result.robots or 0, 'robot')}, makespan {_amount(result.makespan, unit)}"
+        text += f", {_plural(result.robots or 0, 'robot')}, makespan {result.makespan:.4g}{metres}"
     if result.status is Status.FEASIBLE and result.bound is not None:
-        bound = _amount(result.bound, unit) if result.objective == "makespan" else _plural(int(result.bound), "robot")
-        text += f" (proven bound {bound})"
-    return text
+        robots = result.objective == "robots"
+        text += f", proven bound {_plural(int(result.bound), 'robot') if robots else f'{result.bound:.4g}{metres}'}"
+    return text if metres or result.makespan is None else f"{text} ({unit})"
 
 
 def route_title(instance: Instance, result: Result, caption: str | None = None) -> str:
@@ -452,9 +459,10 @@ def plot_frontier(
             ax.plot([p.robots, p.robots], [p.bound, p.makespan], color="tab:orange", lw=1,
                     label="proven lower bound" if i == 0 else None)
             ax.scatter([p.robots], [p.bound], marker="_", s=120, color="tab:orange", zorder=3)
-    for (method, answers), marker in zip((points or {}).items(), "xv^<>sPD*"):
+    for (method, answers), marker, colour in zip((points or {}).items(), "xv^<>sPD*", _METHOD_COLOURS):
         if answers:
-            ax.scatter([r for r, _ in answers], [m for _, m in answers], marker=marker, zorder=4, label=method)
+            ax.scatter([r for r, _ in answers], [m for _, m in answers], marker=marker, color=colour, zorder=4,
+                       label=method)
     if robots:
         ax.set_xticks(robots)
     handles, _ = ax.get_legend_handles_labels()
