@@ -35,7 +35,9 @@ __all__ = [
     "save_routes_plot",
     "plot_side_by_side",
     "plot_frontier",
+    "draw_frontier",
     "plot_gap_distribution",
+    "draw_gap_distribution",
     "node_positions",
     "distance_unit",
     "route_title",
@@ -439,14 +441,28 @@ def plot_frontier(
     unit: str = "distance units",
     dpi: int = 130,
 ) -> None:
-    """Robots versus makespan as steps; optimal points filled, others hollow with their bound.
+    """:func:`draw_frontier` into a file (what ``parcover frontier --plot`` writes)."""
+    fig = new_figure(figsize=(6.5, 4.2))
+    draw_frontier(frontier, fig.add_subplot(), points=points, unit=unit)
+    save_figure(fig, path, dpi=dpi)
+
+
+def draw_frontier(
+    frontier: Frontier,
+    ax: Axes | None = None,
+    *,
+    points: dict[str, list[tuple[int, float]]] | None = None,
+    unit: str = "distance units",
+) -> Axes:
+    """Robots versus makespan as steps on ``ax`` (a new figure when None); optimal points
+    filled, others hollow with their proven bound.
 
     ``points`` adds each method's (robots, makespan) answers beside the frontier;
-    ``unit`` is the makespan's (``"m"`` on maps).
+    ``unit`` is the makespan's (``"m"`` on maps). Returns the axes.
     """
+    if ax is None:
+        _, ax = plt.subplots(figsize=(6.5, 4.2))
     pts = [p for p in frontier.points if p.makespan is not None]
-    fig = new_figure(figsize=(6.5, 4.2))
-    ax = fig.add_subplot()
     robots = sorted({p.robots for p in pts} | {r for answers in (points or {}).values() for r, _ in answers})
     if pts:
         ax.step([p.robots for p in pts], [p.makespan for p in pts], where="post", color="0.6", lw=1, zorder=1)
@@ -474,7 +490,7 @@ def plot_frontier(
     ax.set_title(f"{name}: least makespan per number of robots ({frontier.routes_kind})\n"
                  f"frontier by {frontier.method}", fontsize=9)
     ax.grid(alpha=0.3)
-    save_figure(fig, path, dpi=dpi)
+    return ax
 
 
 def _scatter_if_any(ax: Axes, points: Sequence[Any], **style: Any) -> None:
@@ -484,14 +500,23 @@ def _scatter_if_any(ax: Axes, points: Sequence[Any], **style: Any) -> None:
 
 
 def plot_gap_distribution(frame: Any, path: str | os.PathLike[str], *, dpi: int = 130) -> None:
-    """Box plot of each method's gap to the optimum, in percent (a gaps.csv frame).
+    """:func:`draw_gap_distribution` into a file (``gaps.png`` of ``parcover report``)."""
+    methods = frame["method"].nunique()
+    fig = new_figure(figsize=(1.2 * max(methods, 3) + 4.5, 4.2))
+    draw_gap_distribution(frame, fig.add_subplot())
+    save_figure(fig, path, dpi=dpi)
+
+
+def draw_gap_distribution(frame: Any, ax: Axes | None = None) -> Axes:
+    """Box plot of each method's gap to the optimum, in percent, on ``ax`` (a new figure when
+    None), from a frame of :func:`parcover.report.gaps` (or gaps.csv); returns the axes.
 
     The title says over what: the reference, the instances, route kinds and questions.
     """
     rows = frame[np.isfinite(frame["gap_to_optimum"].astype(float))]
     methods = list(dict.fromkeys(rows["method"]))
-    fig = new_figure(figsize=(1.2 * max(len(methods), 3) + 4.5, 4.2))
-    ax = fig.add_subplot()
+    if ax is None:
+        _, ax = plt.subplots(figsize=(1.2 * max(len(methods), 3) + 4.5, 4.2))
     if methods:
         data = [100 * rows.loc[rows["method"] == m, "gap_to_optimum"].astype(float) for m in methods]
         box = ax.boxplot(data, showmeans=True)
@@ -505,7 +530,7 @@ def plot_gap_distribution(frame: Any, path: str | os.PathLike[str], *, dpi: int 
              f"{kinds}, {_plural(frame['question'].nunique(), 'question')} ({len(rows)} answers with a gap)")
     ax.set_title(textwrap.fill(title, TITLE_WIDTH), fontsize=9)
     ax.grid(alpha=0.3, axis="y")
-    save_figure(fig, path, dpi=dpi)
+    return ax
 
 
 def _explain_boxes(ax: Axes, box: dict[str, list[Any]]) -> None:

@@ -167,24 +167,17 @@ def test_side_by_side(tmp_path, fig1_grid):
     assert is_png(tmp_path / "pair.png")
 
 
-def _frontier_axes(monkeypatch, frontier, **kwargs):
-    """Draw a frontier to a throwaway file; the axes drawn on."""
-    drawn = []
-    monkeypatch.setattr(P, "save_figure", lambda fig, path, dpi: drawn.append(fig))
-    plot_frontier(frontier, "unused.png", **kwargs)
-    return drawn[0].axes[0]
-
-
-def test_frontier_legend_has_no_empty_entry(monkeypatch):
+def test_frontier_legend_has_no_empty_entry(axes):
     # all points optimal: no "best found" or "bound" entry; one entry per method's points
     points = [FrontierPoint(1, 10.0, Status.OPTIMAL, 10.0), FrontierPoint(2, 6.0, Status.OPTIMAL, 6.0)]
-    ax = _frontier_axes(monkeypatch, Frontier("toy", "paths", "exact", points), points={"nn": [(2, 7.0)]})
+    ax = P.draw_frontier(Frontier("toy", "paths", "exact", points), axes, points={"nn": [(2, 7.0)]})
+    assert ax is axes
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["optimal (exact)", "nn"]
     assert ax.get_title() == "toy: least makespan per number of robots (paths)\nfrontier by exact"
     assert (ax.get_xlabel(), ax.get_ylabel()) == ("robots", "makespan (distance units)")
 
 
-def test_frontier_with_unproven_points_shows_their_bounds(tmp_path, monkeypatch):
+def test_frontier_with_unproven_points_shows_their_bounds(tmp_path):
     points = [
         FrontierPoint(1, 10.0, Status.OPTIMAL, 10.0),
         FrontierPoint(2, 7.0, Status.FEASIBLE, 5.5),  # hollow, with its bound
@@ -192,24 +185,26 @@ def test_frontier_with_unproven_points_shows_their_bounds(tmp_path, monkeypatch)
     ]
     plot_frontier(Frontier("toy", "paths", "exact", points), tmp_path / "frontier.png")
     assert is_png(tmp_path / "frontier.png")
-    ax = _frontier_axes(monkeypatch, Frontier("toy", "paths", "exact", points), unit="m")
+    ax = P.draw_frontier(Frontier("toy", "paths", "exact", points), unit="m")
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert labels == ["optimal (exact)", "best found (exact)", "proven lower bound"] and "(m)" in ax.get_ylabel()
+    plt.close(ax.figure)
 
 
-def test_gap_distribution_title_says_over_what(tmp_path, monkeypatch):
+def test_gap_distribution_title_says_over_what(tmp_path):
     import pandas as pd
 
     frame = pd.DataFrame({"instance": ["a", "a", "b"], "routes": ["paths"] * 3, "question": ["robots<=2"] * 3,
                           "method": ["nn", "paper", "nn"], "reference": ["exact"] * 3,
                           "gap_to_optimum": [0.1, 0.0, float("nan")]})
-    drawn = []
-    monkeypatch.setattr(P, "save_figure", lambda fig, path, dpi: drawn.append(fig))
     plot_gap_distribution(frame, tmp_path / "gaps.png")
-    ax = drawn[0].axes[0]
+    assert is_png(tmp_path / "gaps.png")
+    ax = P.draw_gap_distribution(frame)
     assert ax.get_title().replace("\n", " ") == ("Gap to the optimum (exact) per method: 2 instances, paths, 1 question "
                               "(2 answers with a gap)")
     assert ax.get_ylabel() == "gap to optimum (%)"
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["median", "mean", "middle half (quartiles)"]
+    plt.close(ax.figure)
 
 
 def test_docstring_examples(tmp_path, monkeypatch):
