@@ -679,7 +679,9 @@ def _check_matrix(matrix: Any) -> np.ndarray:
     try:
         m = np.asarray(matrix)
     except ValueError:  # ragged nested lists
-        raise InstanceError("The distance matrix must be a square table of numbers; its rows differ in length.") from None
+        raise InstanceError(
+            "The distance matrix must be a square table of numbers; its rows differ in length."
+        ) from None
     if m.dtype.kind not in "iuf":
         raise InstanceError(f"The distance matrix must hold numbers, got entries of type {m.dtype}.")
     if m.ndim != 2 or m.shape[0] != m.shape[1]:

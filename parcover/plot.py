@@ -6,8 +6,10 @@ with its unit; axes carry units (metres on maps, "distance units" otherwise); an
 arrow on each leg shows the direction of travel, drawn beside the line on the
 robot's right so that an out-and-back leg shows both ways.
 
-:func:`plot_routes` draws on a matplotlib ``Axes`` and returns it (as PyVRP's
-``plot_solution``); the other functions write a file. Files are drawn on
+:func:`plot_routes`, :func:`draw_frontier` and :func:`draw_gap_distribution` draw on a
+matplotlib ``Axes`` (a new pyplot figure when none is given) and return it, as PyVRP's
+``plot_solution`` does; :func:`save_routes_plot`, :func:`plot_side_by_side`,
+:func:`plot_frontier` and :func:`plot_gap_distribution` write files, drawn on
 :class:`matplotlib.figure.Figure` objects of their own, outside pyplot, so that no
 window opens and no backend is needed.
 """
@@ -69,7 +71,7 @@ def _amount(value: float, unit: str) -> str:
 
 
 def question_text(result: Result, unit: str) -> str:
-    """The question a result answers, e.g. ``tours, at most 3 robots``."""
+    """The question a result answers, e.g. ``tours, at most 3 robots: least makespan``."""
     if result.objective == "makespan":
         return f"{result.routes_kind}, at most {result.robots_limit} robots: least makespan"
     if result.deadline is None:
@@ -126,16 +128,19 @@ def _corridors(instance: Instance) -> np.ndarray | None:
     """The free pixels a drawn leg may cross: the map's free space reachable from the start,
     one pixel off the walls; None without a readable map image."""
     m = instance.map
-    assert m is not None
-    sx, sy = _scale(m.metres_per_pixel)
-    x, y = instance.coordinates[instance.start]  # type: ignore[index]
-    return _reachable_free(m.image, int((x - m.origin[0]) / sx), int((y - m.origin[1]) / sy))
+    assert m is not None and instance.coordinates is not None
+    pieces = _free_pieces(m.image)
+    if pieces is None:
+        return None
+    rows, cols, inside = _pixels(instance, np.array([instance.coordinates[instance.start]]), pieces.shape)
+    piece = int(pieces[rows[0], cols[0]]) if inside[0] else 0
+    return _inside_piece(m.image, piece) if piece else None
 
 
 @functools.lru_cache(maxsize=8)
-def _reachable_free(image: str, col: int, row_from_bottom: int) -> np.ndarray | None:
-    """Free pixels of ``image`` (:func:`parcover.maps.read_free_mask`) connected to the given
-    pixel, eroded by one pixel; None when the image is unreadable or the pixel is not free."""
+def _free_pieces(image: str) -> np.ndarray | None:
+    """The connected pieces of a map image's free pixels (:func:`parcover.maps.read_free_mask`),
+    numbered from 1 (0: walls); None when the image is unreadable."""
     from scipy import ndimage
 
     from parcover.maps import MapError, read_free_mask
@@ -144,27 +149,41 @@ def _reachable_free(image: str, col: int, row_from_bottom: int) -> np.ndarray | 
         free = read_free_mask(image)
     except MapError:
         return None
-    row = free.shape[0] - 1 - row_from_bottom
-    if not (0 <= row < free.shape[0] and 0 <= col < free.shape[1] and free[row, col]):
-        return None
-    pieces, _ = ndimage.label(free)
-    reachable = ndimage.binary_erosion(pieces == pieces[row, col])
-    reachable.flags.writeable = False
-    return reachable
+    return ndimage.label(free)[0]
 
 
-def _segment_free(a: np.ndarray, b: np.ndarray, instance: Instance, mask: np.ndarray) -> bool:
-    """Whether the straight segment ``a``-``b`` (metres) crosses only free pixels of the map."""
+@functools.lru_cache(maxsize=8)
+def _inside_piece(image: str, piece: int) -> np.ndarray:
+    """Piece ``piece`` of :func:`_free_pieces`, eroded by one pixel (drawn lines keep off the walls)."""
+    from scipy import ndimage
+
+    pieces = _free_pieces(image)
+    assert pieces is not None
+    inside = ndimage.binary_erosion(pieces == piece)
+    inside.flags.writeable = False
+    return inside
+
+
+def _pixels(instance: Instance, xy: np.ndarray, shape: tuple[int, ...]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rows and columns of the map pixels holding world points ``xy`` (``(m, 2)``, metres), and
+    which of them lie on the image (maps.py's axis convention: rows grow downwards)."""
     m = instance.map
     assert m is not None
     sx, sy = _scale(m.metres_per_pixel)
-    ox, oy = m.origin
+    cols = np.floor((xy[:, 0] - m.origin[0]) / sx).astype(int)
+    rows = shape[0] - 1 - np.floor((xy[:, 1] - m.origin[1]) / sy).astype(int)
+    inside = (rows >= 0) & (rows < shape[0]) & (cols >= 0) & (cols < shape[1])
+    return rows, cols, inside
+
+
+def _segment_free(a: np.ndarray, b: np.ndarray, instance: Instance, mask: np.ndarray) -> bool:
+    """Whether the straight segment ``a``-``b`` (metres) crosses only pixels of ``mask``,
+    sampled at least twice per pixel."""
+    m = instance.map
+    assert m is not None
+    sx, sy = _scale(m.metres_per_pixel)
     steps = max(2, int(2 * max(abs(b[0] - a[0]) / sx, abs(b[1] - a[1]) / sy)) + 1)
-    t = np.linspace(0.0, 1.0, steps)[:, None]
-    xy = a + t * (b - a)
-    cols = np.floor((xy[:, 0] - ox) / sx).astype(int)
-    rows = mask.shape[0] - 1 - np.floor((xy[:, 1] - oy) / sy).astype(int)
-    inside = (rows >= 0) & (rows < mask.shape[0]) & (cols >= 0) & (cols < mask.shape[1])
+    rows, cols, inside = _pixels(instance, a + np.linspace(0.0, 1.0, steps)[:, None] * (b - a), mask.shape)
     return bool(inside.all() and mask[rows, cols].all())
 
 
