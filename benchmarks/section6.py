@@ -496,7 +496,7 @@ def run(config: Config, settings: Settings | None = None) -> Section:
             if start == case.tour_start:
                 file, link = config.figure(f"fig5_{instance.name}.png")
                 plot_side_by_side(instance, [results["paper"], results["mst"]], file,
-                                  titles=[f"{instance.name}: Algorithm 1 paths", f"{instance.name}: MST branches"])
+                                  titles=["Fig. 5(a) style: Algorithm 1 paths", "Fig. 5(b) style: MST branches"])
                 drawings.append(f"![Fig. 5 style, {instance.name}]({link})")
         if case.name in settings.tour_maps:
             instance = rooted(graph, case.tour_start, f"{case.name}-start{case.tour_start}")
@@ -504,8 +504,7 @@ def run(config: Config, settings: Settings | None = None) -> Section:
             rows, results = tour_rows(instance, case.name, case.tour_start, settings.tour_seconds)
             tour_records += rows
             k = results[0].robots
-            titles = [f"{instance.name}: Algorithm 2 tours", f"{k}-NN tours", f"{k}-NI tours",
-                      f"exact, {k} robots ({results[3].status.value})"]
+            titles = ["Algorithm 2 tours", f"{k}-NN tours", f"{k}-NI tours", f"exact, {k} robots"]
             for part, pair in (("ab", slice(0, 2)), ("cd", slice(2, 4))):
                 file, link = config.figure(f"fig7{part}_{instance.name}.png")
                 plot_side_by_side(instance, results[pair], file, titles=titles[pair])

@@ -11,7 +11,9 @@ greedy algorithms of Min & Papanikolopoulos against the exact optima.
 4.0
 """
 
+import importlib
 from importlib.metadata import PackageNotFoundError, version
+from typing import Any
 
 from parcover import generate
 from parcover.errors import InputError
@@ -22,6 +24,17 @@ from parcover.problem import MethodInfo, Problem, Solution
 from parcover.result import Frontier, FrontierPoint, Result, Status
 from parcover.solve import METHODS, SolverError, available_methods, register_method, solve
 from parcover.verify import InvalidSolution, Verdict, verify
+
+#: Public names loaded on first use: drawing loads matplotlib, which a solve does not need.
+_LAZY = {"plot_routes": "parcover.plot", "save_routes_plot": "parcover.plot"}
+
+
+def __getattr__(name: str) -> Any:
+    """The drawing functions of :mod:`parcover.plot`, imported when first asked for (PEP 562)."""
+    if name in _LAZY:
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'parcover' has no attribute {name!r}")
+
 
 try:
     __version__ = version("parcover")
@@ -54,6 +67,8 @@ __all__ = [
     "solve",
     "frontier",
     "verify",
+    "plot_routes",
+    "save_routes_plot",
     "generate",
     "__version__",
 ]

@@ -80,7 +80,8 @@ def _solve(args: argparse.Namespace) -> int:
     # One deadline from here: reading the instance counts against --time-limit.
     clock = Deadline(args.time_limit)
     _start_log(args)
-    _check_outputs(args, out=args.out, plot=args.plot, model=args.export_model)
+    frames = _frames_folder(args)
+    _check_outputs(args, out=args.out, plot=None if frames else args.plot, model=args.export_model)
     instance, question = load_question(args.instance, metric=args.distance)
     if question is not None and args.routes is None and args.robots is None and args.deadline is None:
         args.routes, args.robots, args.deadline = question.routes, question.robots, question.deadline
@@ -107,12 +108,18 @@ def _solve(args: argparse.Namespace) -> int:
         for line in result.info.get("trace", []):
             print(line)
         print()
-    if args.plot:
+    if frames:
+        from parcover.frames import save_frames
+
+        _draw(lambda: save_frames(instance, result, args.plot), args.plot)
+        print(f"wrote {len(result.info['steps'])} frames and steps.gif to {args.plot}",
+              file=sys.stderr if args.json else sys.stdout)
+    elif args.plot:
         if not result.routes:
             raise InputError(f"No routes to draw: the answer is {result.status.value}.")
-        from parcover.plot import plot_routes
+        from parcover.plot import save_routes_plot
 
-        _draw(lambda: plot_routes(instance, result, args.plot), args.plot)
+        _draw(lambda: save_routes_plot(instance, result, args.plot), args.plot)
     _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
     return 0
 
@@ -180,9 +187,9 @@ def _frontier(args: argparse.Namespace) -> int:
         instance, args.routes, args.method, time_limit=args.time_limit, seed=args.seed, progress=progress
     )
     if args.plot:
-        from parcover.plot import plot_frontier
+        from parcover.plot import distance_unit, plot_frontier
 
-        _draw(lambda: plot_frontier(result, args.plot), args.plot)
+        _draw(lambda: plot_frontier(result, args.plot, unit=distance_unit(instance)), args.plot)
     _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
     return 0
 
@@ -255,9 +262,14 @@ def _props_check(args: argparse.Namespace) -> int:
 def _worst(args: argparse.Namespace) -> int:
     from parcover.worst import report
 
-    report(budget=args.budget, seed=args.seed, out_dir=args.out_dir, report_path=args.report,
+    out_dir = args.out_dir or os.path.join(args.out, "instances")
+    report_path = args.report or os.path.join(args.out, "worst.md")
+    for flag, path in (("--out", args.out), ("--out-dir", out_dir)):
+        if os.path.exists(path) and not os.path.isdir(path):
+            raise InputError(f"{flag} {path} is a file; the search writes a folder there.")
+    report(budget=args.budget, seed=args.seed, out_dir=out_dir, report_path=report_path,
            command=args.command_line)
-    print(f"wrote {args.report}")
+    print(f"wrote {report_path} and the worst instances in {out_dir}")
     return 0
 
 
@@ -312,7 +324,24 @@ def _emit(text: str, json_text: str, out: str | None) -> None:
         write_text_atomic(out, json_text + "\n")
 
 
-def _draw(plot: Callable[[], None], path: str) -> None:
+def _frames_folder(args: argparse.Namespace) -> bool:
+    """Whether ``--plot`` names a folder (ends in a slash or exists) for the frames of ``--trace``.
+
+    Refuses a folder without ``--trace`` and a folder whose parent does not exist.
+    """
+    plot = args.plot
+    if not plot or not (plot.endswith(("/", os.sep)) or os.path.isdir(plot)):
+        return False
+    if not args.trace:
+        raise InputError(f"--plot {plot} is a folder: it takes one picture per step of --trace (method paper*); "
+                         "add --trace, or give a file name such as routes.png.")
+    parent = os.path.dirname(os.path.normpath(plot)) or "."
+    if not os.path.isdir(parent):
+        raise InputError(f"Cannot write --plot {plot}: no folder {parent}.")
+    return True
+
+
+def _draw(plot: Callable[[], object], path: str) -> None:
     """Run a drawing (before ``--out`` is written: a failed drawing leaves no result behind)."""
     try:
         plot()
@@ -410,12 +439,15 @@ def _build_parser() -> argparse.ArgumentParser:
     limits = p.add_argument_group("limits")
     limits.add_argument("--time-limit", type=_positive_float, metavar="SECONDS", help="seconds for the whole solve, reading the instance included")
     limits.add_argument("--seed", type=_seed, default=0, help="seed of randomised methods (default: 0)")
-    p.add_argument("--trace", action="store_true", help="print every step of the paper's algorithms")
+    p.add_argument("--trace", action="store_true",
+                   help="print every step of the paper's algorithms (with --plot DIR/, draw each step)")
     p.add_argument("--export-model", metavar="FILE.mps",
                    help="write the compact MILP (method exact) to an .mps or .lp file any MILP solver reads")
     p.add_argument("--json", action="store_true", help="print the result as one JSON object")
     p.add_argument("--out", metavar="FILE", help="also write the result JSON to FILE")
-    p.add_argument("--plot", metavar="FILE.png", help="draw the routes (over the map image when there is one)")
+    p.add_argument("--plot", metavar="FILE.png|DIR/",
+                   help="draw the routes to FILE.png (over the map image when there is one); with --trace and a "
+                   "folder (DIR/ or an existing one), one PNG per step of the algorithm and an animated steps.gif")
     p.add_argument("--log", action="store_true",
                    help="print progress on stderr: phases, incumbents, bounds and gaps, nodes, elapsed time")
     p.set_defaults(run=_solve, routes=None)  # None: the file's question's routes, else paths
@@ -497,13 +529,18 @@ def _build_parser() -> argparse.ArgumentParser:
 
     p = commands.add_parser(
         "worst", help="adversarial search for the greedy's worst ratio to the optimum",
-        description="Search for the worst greedy/optimum ratio per claim and reading.",
+        description="Search for the worst greedy/optimum ratio per claim and reading. By default everything is "
+        "written under --out, which is no committed folder; the committed report is regenerated with "
+        "`parcover worst --budget 8 --out-dir instances/worst --report reports/worst.md`.",
     )
     p.add_argument("--budget", type=_positive_float, default=5.0, metavar="SECONDS",
                    help="seconds of search per claim and reading (default: 5)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the search (default: 0)")
-    p.add_argument("--out-dir", default="instances/worst", metavar="DIR", help="where the worst instances go")
-    p.add_argument("--report", default="reports/worst.md", metavar="FILE.md", help="the report")
+    p.add_argument("--seed", type=_seed, default=0, help="seed of the search (default: 0)")
+    p.add_argument("--out", default="worst-out", metavar="DIR",
+                   help="folder of everything written (default: worst-out)")
+    p.add_argument("--out-dir", metavar="DIR", help="where the worst instances go (default: OUT/instances)")
+    p.add_argument("--report", metavar="FILE.md",
+                   help="the report; its pictures go to a folder of the same name (default: OUT/worst.md)")
     p.set_defaults(run=_worst)
 
     p = commands.add_parser("generate", help="write a generated instance file")

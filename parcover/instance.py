@@ -271,6 +271,66 @@ class Instance:
         return cls(ids[start], kpois, coordinates=coordinates, name=name, metric=metric)
 
     @classmethod
+    def from_matrix(
+        cls,
+        matrix: Sequence[Sequence[float]] | np.ndarray,
+        start: int = 0,
+        kpois: Iterable[int] | None = None,
+        ids: Sequence[str] | None = None,
+        *,
+        name: str = "",
+    ) -> Instance:
+        """An instance from a symmetric distance matrix, as OR-Tools and PyVRP take one.
+
+        Parameters
+        ----------
+        matrix
+            Square, symmetric, non-negative and finite, with a zero diagonal (a numpy
+            array or nested lists). Entry ``[i, j]`` is the cost of travelling
+            between nodes ``i`` and ``j`` directly; travel between two nodes takes
+            the cheapest way, so a matrix breaking the triangle inequality is
+            closed by shortest paths.
+        start
+            Index of the start node; default 0.
+        kpois
+            Indices of the KPOIs; default every node but the start. Nodes that are
+            neither the start nor a KPOI are virtual nodes (paper, Definition 3):
+            robots may pass through them.
+        ids
+            Node ids, one string per row; default the row numbers as strings (as
+            :meth:`from_points`).
+        name
+            Instance name.
+
+        Raises
+        ------
+        InstanceError
+            One sentence naming the problem: a matrix that is not square, not
+            numeric, not finite, negative, with a non-zero diagonal or not symmetric
+            (parcover handles symmetric distances only); a start or KPOI index out of
+            range; duplicate or missing ids.
+
+        Examples
+        --------
+        >>> inst = Instance.from_matrix([[0, 2, 5], [2, 0, 1], [5, 1, 0]])
+        >>> inst.kpois, float(inst.distance("0", "2"))
+        (('1', '2'), 3.0)
+        """
+        m = _check_matrix(matrix)
+        size = len(m)
+        labels = [str(i) for i in range(size)] if ids is None else _check_ids(ids, size)
+        start = _check_row(start, size, "start")
+        if kpois is None:
+            rows = [i for i in range(size) if i != start]
+        elif isinstance(kpois, (str, bytes)) or not isinstance(kpois, Iterable):
+            raise InstanceError(f"kpois must be a list of row numbers, got {short_repr(kpois)}.")
+        else:
+            rows = [_check_row(k, size, "KPOI") for k in kpois]
+        i, j = np.triu_indices(size, k=1)
+        edges = tuple(zip([labels[a] for a in i], [labels[b] for b in j], m[i, j].tolist()))
+        return cls(labels[start], tuple(labels[k] for k in rows), edges=edges, name=name)
+
+    @classmethod
     def from_networkx(
         cls,
         graph: Any,
@@ -614,6 +674,63 @@ def _first_duplicate(values: Iterable[str]) -> str | None:
             return v
         seen.add(v)
     return None
+
+
+def _check_matrix(matrix: Any) -> np.ndarray:
+    """A distance matrix as a float array: square, finite, non-negative, zero diagonal, symmetric."""
+    try:
+        m = np.asarray(matrix)
+    except ValueError:  # ragged nested lists
+        raise InstanceError(
+            "The distance matrix must be a square table of numbers; its rows differ in length."
+        ) from None
+    if m.dtype.kind not in "iuf":
+        raise InstanceError(f"The distance matrix must hold numbers, got entries of type {m.dtype}.")
+    if m.ndim != 2 or m.shape[0] != m.shape[1]:
+        raise InstanceError(f"Expected a square distance matrix, got shape {m.shape}.")
+    m = m.astype(float)
+    bad = np.argwhere(~np.isfinite(m))
+    if bad.size:
+        i, j = bad[0]
+        raise InstanceError(f"The distance matrix has a non-finite entry {m[i, j]} at [{i}, {j}].")
+    bad = np.argwhere(m < 0)
+    if bad.size:
+        i, j = bad[0]
+        raise InstanceError(f"The distance matrix has a negative entry {m[i, j]:g} at [{i}, {j}].")
+    bad = np.flatnonzero(np.diag(m))
+    if bad.size:
+        i = bad[0]
+        raise InstanceError(f"The distance matrix must have a zero diagonal; entry [{i}, {i}] is {m[i, i]:g}.")
+    bad = np.argwhere(~np.isclose(m, m.T, rtol=1e-9, atol=1e-12))
+    if bad.size:
+        i, j = bad[0]
+        raise InstanceError(
+            f"parcover handles symmetric distances only; the matrix has [{i}, {j}] = {m[i, j]:g} but "
+            f"[{j}, {i}] = {m[j, i]:g} (asymmetric travel costs are out of scope)."
+        )
+    return m
+
+
+def _check_row(value: Any, size: int, what: str) -> int:
+    """``value`` as a row number of a ``size``-row matrix, else :class:`InstanceError`."""
+    if not is_whole(value):
+        raise InstanceError(f"The {what} must be a row number of the matrix, got {short_repr(value)}.")
+    if not 0 <= value < size:
+        raise InstanceError(f"The {what} row {value} is out of range for a {size} x {size} matrix.")
+    return int(value)
+
+
+def _check_ids(ids: Any, size: int) -> list[str]:
+    """One distinct string id per matrix row (any iterable, as ``names`` of :meth:`Instance.from_points`)."""
+    if not isinstance(ids, Iterable):
+        raise InstanceError(f"ids must be a list of {size} strings, got {short_repr(ids)}.")
+    labels = [str(v) for v in ids]
+    if len(labels) != size:
+        raise InstanceError(f"Expected {size} ids (one per matrix row), got {len(labels)}.")
+    duplicate = _first_duplicate(labels)
+    if duplicate is not None:
+        raise InstanceError(f"Duplicate id {duplicate!r} in ids.")
+    return labels
 
 
 def _check_symmetric(graph: Any, weight: str) -> None:

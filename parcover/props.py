@@ -779,9 +779,10 @@ def draw_counterexample(verdict: Verdict, folder: Path) -> Verdict:
         return dataclasses.replace(verdict, notes=verdict.notes + ("drawing skipped: parcover.plot is not available",))
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / f"{_file_stem(verdict)}.png"
-    titles = [f"{r.method} ({r.status.value})" for r in verdict.results]  # plot adds the numbers
+    roles = ("the greedy", "the exact method")[-len(verdict.results):]  # (greedy, reference) or (reference,)
+    captions = [f"claim {verdict.claim}: {role}" for role in roles]
     try:
-        plot_side_by_side(verdict.counterexample, list(verdict.results), path, titles)
+        plot_side_by_side(verdict.counterexample, list(verdict.results), path, captions)
     except Exception as exc:  # noqa: BLE001 - a drawing failure must not lose the verdicts
         return dataclasses.replace(verdict, notes=verdict.notes + (f"drawing failed: {type(exc).__name__}: {exc}",))
     return dataclasses.replace(verdict, picture=str(path))

@@ -1118,15 +1118,17 @@ def draw_plots(
 
         def render_frontier(path: Path, name: str = name, kind: RoutesKind = kind) -> None:
             curve, points = _frontier_args(by_name[name], kind, frame, reference, time_limit, seed)
-            plot.plot_frontier(curve, path, points=points)
+            plot.plot_frontier(curve, path, points=points, unit=plot.distance_unit(by_name[name]))
 
         draw(f"Frontier of {name} ({kind}) with each method's point", f"frontier-{name}-{kind}.png", render_frontier)
     worst = worst_rows(frame, worst_cases)
     for rank, row in enumerate(worst.itertuples(index=False), start=1):
 
-        def render_comparison(path: Path, row: Any = row) -> None:
+        def render_comparison(path: Path, row: Any = row, rank: int = rank) -> None:
             instance, greedy, optimal = _comparison_args(by_name[row.instance], row, reference, time_limit, seed)
-            plot.plot_side_by_side(instance, [greedy, optimal], path, [row.method, reference])
+            captions = [f"worst case {rank}: {row.method}, {row.gap_to_optimum:.1%} above the optimum",
+                        f"the reference, {reference}"]
+            plot.plot_side_by_side(instance, [greedy, optimal], path, captions)
 
         draw(
             f"Worst case {rank}: {row.method} against {reference} on {row.instance} ({row.routes}, {row.question})",

@@ -616,9 +616,12 @@ def draw_family(length: int, path: Path, exact: str = EXACT) -> Path:
             cost = result.route_costs[i]
             ax.plot(xs, [-i] * len(xs), marker="o", markersize=4, label=f"robot {i + 1}: {cost:g}")
         ax.plot([0], [0], marker="*", markersize=12, color="gold", markeredgecolor="black", linestyle="")
-        ax.set(title=f"{result.method} ({result.status.value}): {result.robots} paths within c_max = {length}",
-               xlabel="x (start at 0)", yticks=[])
+        ax.set(xlabel="x (distance units; start at 0)", yticks=[])
+        ax.set_title(f"{result.method} ({result.status.value}): {result.robots} paths within c_max = {length}",
+                     fontsize=9)
         ax.legend(fontsize=7, loc="lower left")
+    fig.suptitle(f"Halving line L = {length} ({inst.n} KPOIs): fewest paths within c_max = {length}, "
+                 "the literal Alg. 1 (left) against the optimum (right); one lane per robot", fontsize=9)
     return _saved(fig, path)
 
 
@@ -649,14 +652,16 @@ def plot_ratios(founds: Sequence[Found], members: Sequence[Member], path: Path) 
     for claim, worst in by_claim.items():
         ns = sorted(worst)
         left.plot(ns, [worst[n] for n in ns], marker="o", label=claim)
-    left.set(xlabel="KPOIs n", ylabel="worst greedy / optimum seen", title="adversarial search")
+    left.set(xlabel="KPOIs n", ylabel="worst greedy / optimum seen")
+    left.set_title("adversarial search: worst ratio per claim\n(largest over the readings)", fontsize=9)
     left.legend(fontsize=8)
     for factor in FAMILY_FACTORS:
         line = [(m.n, m.ratio("paper")) for m in members if m.proven and m.factor == factor]
         right.plot([n for n, _ in line], [r for _, r in line], marker="o", label=f"paper at {factor:g} c_max")
     ns = sorted({m.n for m in members if m.proven})
     right.plot(ns, [(1 + math.log2(n)) / 2 for n in ns], linestyle="--", label="(1 + log2 n) / 2")
-    right.set(xscale="log", xlabel="KPOIs n", ylabel="greedy / optimum (proven)", title="halving line, literal reading")
+    right.set(xscale="log", xlabel="KPOIs n", ylabel="greedy / optimum robots (proven)")
+    right.set_title("halving line, paths: the literal reading's robots\nover the optimum's", fontsize=9)
     right.legend(fontsize=8)
     return _saved(fig, path)
 

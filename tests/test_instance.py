@@ -186,3 +186,58 @@ def test_large_graph_loads_in_seconds():
     seconds = time.perf_counter() - started
     assert inst.distances.shape == (501, 501)
     assert seconds < 20, f"took {seconds:.1f} s"
+
+
+# -- Instance.from_matrix -----------------------------------------------------------------
+
+SQUARE = [[0, 2, 5, 1], [2, 0, 1, 1], [5, 1, 0, 1], [1, 1, 1, 0]]  # 3 KPOIs around a start; 0 -> 2 via 1 or 3
+
+
+def test_from_matrix_defaults_every_other_row_to_a_kpoi():
+    inst = Instance.from_matrix(np.array(SQUARE))
+    assert inst.start == "0" and inst.kpois == ("1", "2", "3") and inst.virtual_nodes == ()
+    # [0, 2] = 5 breaks the triangle inequality: travel takes 0 -> 3 -> 2 (cost 2)
+    assert inst.distance("0", "2") == 2.0 and inst.walk(["0", "2"]) == ["0", "3", "2"]
+
+
+def test_from_matrix_rows_outside_start_and_kpois_are_virtual():
+    inst = Instance.from_matrix(SQUARE, start=1, kpois=[0, 2], ids=["a", "b", "c", "d"], name="sq")
+    assert (inst.name, inst.start, inst.kpois, inst.virtual_nodes) == ("sq", "b", ("a", "c"), ("d",))
+    assert inst.distance("a", "c") == 2.0 and inst.walk(["b", "a", "c"]) == ["b", "a", "d", "c"]
+
+
+def test_from_matrix_matches_from_points():
+    points = [[0, 0], [3, 4], [0, 1], [2, 2]]
+    plane = Instance.from_points(points)
+    matrix = Instance.from_matrix(np.hypot(*(np.array(points)[:, None] - np.array(points)[None]).T))
+    assert plane.ids == matrix.ids and np.allclose(plane.distances, matrix.distances)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (([[0, 1], [1, 0, 2]],), "rows differ in length"),  # ragged nested lists
+        (([["0", "1"], ["1", "0"]],), "must hold numbers"),  # strings are not distances
+        (([[False, True], [True, False]],), "must hold numbers"),  # booleans are not distances
+        (([[0, 1, 2], [1, 0, 2]],), "square distance matrix, got shape \\(2, 3\\)"),  # not square
+        (([0, 1, 2],), "square distance matrix, got shape \\(3,\\)"),  # a vector, not a matrix
+        (([[0, np.nan], [np.nan, 0]],), "non-finite entry nan at \\[0, 1\\]"),  # nan is no distance
+        (([[0, np.inf], [np.inf, 0]],), "non-finite entry inf"),  # unreachable is not a distance either
+        (([[0, -1], [-1, 0]],), "negative entry -1 at \\[0, 1\\]"),  # no negative travel
+        (([[1, 1], [1, 0]],), "zero diagonal; entry \\[0, 0\\] is 1"),  # staying put costs nothing
+        (([[0, 1], [2, 0]],), "symmetric distances only.*\\[0, 1\\] = 1 but \\[1, 0\\] = 2"),  # one-way costs
+        (([[0]],), "at least one KPOI"),  # a start alone: nothing to cover
+        ((SQUARE, 4), "start row 4 is out of range for a 4 x 4 matrix"),  # no such row
+        ((SQUARE, 1.0), "start must be a row number"),  # rows are whole numbers
+        ((SQUARE, 0, [1, 9]), "KPOI row 9 is out of range"),  # no such row
+        ((SQUARE, 0, 1), "kpois must be a list of row numbers"),  # one index, not a list
+        ((SQUARE, 0, [1, 1]), "Duplicate KPOI '1'"),  # each KPOI once
+        ((SQUARE, 0, [0]), "at least one KPOI"),  # only the start: nothing to cover
+        ((SQUARE, 0, None, ["a", "b"]), "Expected 4 ids \\(one per matrix row\\), got 2"),  # an id per row
+        ((SQUARE, 0, None, ["a", "b", "a", "c"]), "Duplicate id 'a'"),  # ids name one node each
+    ],
+)
+def test_from_matrix_refuses_bad_input_with_one_line(args, message):
+    with pytest.raises(InstanceError, match=message) as info:
+        Instance.from_matrix(*args)
+    assert "\n" not in str(info.value) and isinstance(info.value, ValueError)

@@ -318,7 +318,8 @@ def test_draw_calls_plot_side_by_side(tiny_line, tmp_path, monkeypatch):
     [(inst, results, path, titles)] = calls
     assert inst is tiny_line and [r.method for r in results] == ["test-split", "test-brute"]
     assert verdict.picture == str(path) == str(tmp_path / "alg1-test-split.png")
-    assert titles == ["test-split (feasible)", "test-brute (optimal)"]
+    # the panels' titles add instance, question, method, status and value; captions say the roles
+    assert titles == ["claim alg1-test-split: the greedy", "claim alg1-test-split: the exact method"]
 
 
 def test_draw_skipped_with_a_note_without_plot_module(tiny_line, tmp_path, monkeypatch):

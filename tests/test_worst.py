@@ -138,3 +138,50 @@ def test_found_keeps_the_smaller_instance_on_a_tie():
     for length in (15, 3, 7):
         found.offer(halving_line(length), score(halving_line(length), target), "plane")
     assert found.ratio == 1.5 and found.instance.n == 4 and found.by_n == {16: 1.5, 4: 1.5, 8: 1.5}
+
+
+def _recorded_worst(monkeypatch, tmp_path, *flags):
+    """Run `parcover worst` in tmp_path with report() replaced by a recorder; its keyword arguments."""
+    from parcover import worst
+
+    calls = []
+    monkeypatch.setattr(worst, "report", lambda **kwargs: calls.append(kwargs) or "")
+    monkeypatch.chdir(tmp_path)
+    assert main(["worst", "--budget", "1", *flags]) == 0
+    return calls[0]
+
+
+def test_worst_writes_under_its_out_folder_by_default(monkeypatch, tmp_path):
+    # run in a clone, the defaults must not overwrite the committed instances/worst and reports/worst.md
+    call = _recorded_worst(monkeypatch, tmp_path)
+    assert (call["out_dir"], call["report_path"]) == ("worst-out/instances", "worst-out/worst.md")
+    call = _recorded_worst(monkeypatch, tmp_path, "--out", "mine")
+    assert (call["out_dir"], call["report_path"]) == ("mine/instances", "mine/worst.md")
+
+
+def test_worst_regenerates_the_committed_report_when_asked(monkeypatch, tmp_path):
+    # the committed report names the explicit command that rewrites it
+    from pathlib import Path
+
+    committed = (Path(__file__).parent.parent / "reports" / "worst.md").read_text()
+    command = "parcover worst --budget 8 --out-dir instances/worst --report reports/worst.md"
+    assert f"    {command}\n" in committed
+    call = _recorded_worst(monkeypatch, tmp_path, *command.split()[4:])
+    assert (call["out_dir"], call["report_path"]) == ("instances/worst", "reports/worst.md")
+
+
+def test_worst_refuses_a_file_as_its_out_folder(monkeypatch, tmp_path, capsys):
+    (tmp_path / "taken").write_text("")
+    monkeypatch.chdir(tmp_path)
+    assert main(["worst", "--out", "taken"]) == 2
+    assert "--out taken is a file" in capsys.readouterr().err
+
+
+def test_worst_help_shows_every_default(capsys):
+    with pytest.raises(SystemExit):
+        main(["worst", "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    for option in ("--budget SECONDS seconds of search per claim and reading (default: 5)",
+                   "--seed SEED seed of the search (default: 0)", "(default: worst-out)",
+                   "(default: OUT/instances)", "(default: OUT/worst.md)"):
+        assert option in out

@@ -81,8 +81,10 @@ Adaptations to the questions of :class:`parcover.problem.Problem`
   needs more, not necessarily the least such. For tours the threshold is ``c_t``
   (paths at ``c_t / 2`` as above).
 - ``Solution.info``: ``"algorithm"`` (which ran), ``"threshold"`` (``c_p``, or
-  ``c_t`` for tours), ``"search"`` (``exact`` and ``runs``, under a robot limit) and
-  ``"trace"`` when asked for.
+  ``c_t`` for tours), ``"search"`` (``exact`` and ``runs``, under a robot limit) and,
+  when asked for, ``"trace"`` (the steps as lines of text) with ``"steps"`` (the same
+  steps as :class:`TraceStep` records, one per line, which :mod:`parcover.frames`
+  draws).
 
 References
 ----------
@@ -95,7 +97,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -106,6 +108,7 @@ from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.result import Status
 
 __all__ = [
+    "TraceStep",
     "paper",
     "paper_5d_end",
     "paper_1_1_end",
@@ -146,6 +149,80 @@ _1_1_END = Reading(supplement_from_end=True)
 NEAREST_END = Reading(grow_from_end=True, supplement_from_end=True)
 
 
+@dataclass(frozen=True)
+class TraceStep:
+    """One recorded step of Algorithm 1, 1-1 or 2: its line of text and the state it leaves.
+
+    Attributes
+    ----------
+    text
+        The step as a readable line, led by the paper's step number ("Alg 1 step 5d: ...").
+    paths
+        Paths as KPOI ids in visiting order, the start implicit: in Algorithm 1 and 1-1
+        the paths built so far (the last one possibly still growing); in Algorithm 2
+        every path it pairs, numbered as in ``text`` (path 1 first).
+    tours
+        Algorithm 2: the tours formed so far, KPOI ids (the start implicit at both ends).
+    current
+        Index of the path this step grows (in ``paths``) or of the tour it forms (in ``tours``).
+    candidate
+        The KPOI the step considers (Algorithm 1 and 1-1).
+    anchor
+        The node the candidate's distance is measured from: the path's end, or ``v_m``
+        (the path's first KPOI) in the literal step 5d, or the start.
+    accepted
+        Whether the candidate was taken (or, in Algorithm 2, a partner joined).
+    cost
+        Cost of the current path (or tour) once the step is done.
+    threshold
+        What ``cost`` is tested against: ``c_max`` (Algorithm 1), ``c_p`` (1-1) or
+        the tour deadline ``c_t`` (Algorithm 2 under a deadline).
+    joined
+        Algorithm 2: indices in ``paths`` of the paths forming this step's tour.
+    remaining
+        Algorithm 2: indices in ``paths`` of the paths still to pair after this step.
+    """
+
+    text: str
+    paths: tuple[tuple[str, ...], ...] = ()
+    tours: tuple[tuple[str, ...], ...] = ()
+    current: int | None = None
+    candidate: str | None = None
+    anchor: str | None = None
+    accepted: bool | None = None
+    cost: float | None = None
+    threshold: float | None = None
+    joined: tuple[int, ...] = ()
+    remaining: tuple[int, ...] = ()
+
+    @property
+    def budget_left(self) -> float | None:
+        """``threshold - cost``: how much the current path may still grow."""
+        return None if self.cost is None or self.threshold is None else self.threshold - self.cost
+
+
+Trace = list[TraceStep]
+
+
+class _Recorder:
+    """Appends :class:`TraceStep` records to a trace, naming KPOIs by id."""
+
+    def __init__(self, trace: Trace, ids: tuple[str, ...]) -> None:
+        self.trace = trace
+        self.ids = ids
+
+    def names(self, routes: Sequence[list[int]]) -> tuple[tuple[str, ...], ...]:
+        return tuple(tuple(self.ids[i] for i in route) for route in routes)
+
+    def add(self, text: str, paths: Sequence[list[int]] = (), tours: Sequence[list[int]] = (), *,
+            candidate: int | None = None, anchor: int | None = None, **state: Any) -> None:
+        self.trace.append(TraceStep(
+            text, self.names(paths), self.names(tours),
+            candidate=None if candidate is None else self.ids[candidate],
+            anchor=None if anchor is None else self.ids[anchor], **state,
+        ))
+
+
 @dataclass
 class _Tests:
     """The threshold tests of one run: the largest accepted and smallest rejected value.
@@ -176,7 +253,7 @@ class _Run:
     threshold: float
     algorithm: str
     tests: _Tests
-    trace: list[str] | None = field(default=None)
+    trace: Trace | None = field(default=None)
 
 
 # -- Algorithm 1 and 1-1 -----------------------------------------------------------------
@@ -187,7 +264,7 @@ def algorithm_1(
     c_p: float | None = None,
     *,
     reading: Reading = LITERAL,
-    trace: list[str] | None = None,
+    trace: Trace | None = None,
     tests: _Tests | None = None,
 ) -> list[list[int]]:
     """Paths of Algorithm 1 (``c_p <= c_max``) or Algorithm 1-1 (``c_p > c_max``).
@@ -202,7 +279,7 @@ def algorithm_1(
         Where step 5d and Algorithm 1-1 step 1 look for the nearest KPOI; default
         the literal reading.
     trace
-        When a list, the steps are appended to it as readable lines.
+        When a list, the steps are appended to it as :class:`TraceStep` records.
     tests
         Records the threshold tests (for the robot-limit scan).
 
@@ -226,11 +303,12 @@ def algorithm_1(
     supplementary = c_p is not None and c_p > c_max
     threshold = c_p if supplementary else c_max
     label = "Alg 1-1" if supplementary else "Alg 1"
+    record = _Recorder(trace, ids) if trace is not None else None
     # Step 1: shortest path costs from the start (row 0 of the metric closure).
     from_start = d[0]
     by_start = np.argsort(from_start[1:], kind="stable") + 1
-    if trace is not None:
-        trace.append(f"Alg 1 step 1: shortest paths from the start {ids[0]} to the {n} KPOIs")
+    if record is not None:
+        record.add(f"Alg 1 step 1: shortest paths from the start {ids[0]} to the {n} KPOIs")
     # `blocked` is 0 for KPOIs still in V and inf otherwise: argmin(row + blocked)
     # is the nearest remaining KPOI, ties to the first in instance order.
     blocked = np.zeros(n + 1)
@@ -253,21 +331,24 @@ def algorithm_1(
     v_d = int(np.argmax(from_start[1:])) + 1
     # Steps 3-4: P_1 = the KPOIs on the shortest path s -> v_d; V = V \ P_1.
     first = list(instance.kpoi_indices_on_shortest_path(v_d))
+    paths = [first]
     cost = _path_cost(d, first)
     for i in first:
         cover(i)
-    if trace is not None:
-        trace.append(f"Alg 1 step 2: v_d = v_max = {ids[v_d]}, c_max = {c_max:g}")
-        trace.append(
+    if record is not None:
+        record.add(f"Alg 1 step 2: v_d = v_max = {ids[v_d]}, c_max = {c_max:g}",
+                   candidate=v_d, anchor=0, accepted=True)
+        state = dict(current=0, cost=cost, threshold=threshold)
+        record.add(
             f"Alg 1 step 3: path 1 = shortest path s -> {ids[v_d]}, P_1 = {_names(ids, first)}, "
-            f"cost {cost:g}, budget left {threshold - cost:g}"
+            f"cost {cost:g}, budget left {threshold - cost:g}", paths, **state
         )
-        trace.append(f"Alg 1 step 4: V = V \\ P_1, {left} KPOIs left")
+        record.add(f"Alg 1 step 4: V = V \\ P_1, {left} KPOIs left", paths, **state)
     if supplementary:
         cost = _supplementary_steps(
-            d, ids, first, cost, threshold, reading.supplement_from_end, nearest_to_start, blocked, cover, tests, trace
+            d, ids, first, cost, threshold, reading.supplement_from_end, nearest_to_start, blocked, cover, tests,
+            record,
         )
-    paths = [first]
     # Step 5: new paths until V is empty.
     i = 2
     while left:
@@ -275,22 +356,24 @@ def algorithm_1(
         v_m = nearest_to_start()
         # 5c: P_i = the KPOIs of the shortest path s -> v_m still in V.
         path = [j for j in instance.kpoi_indices_on_shortest_path(v_m) if blocked[j] == 0]
+        paths.append(path)
         cost = _path_cost(d, path)
         for j in path:
             cover(j)
-        if trace is not None:
-            trace.append(
+        if record is not None:
+            record.add(
                 f"{label} step 5a-5c: path {i}: nearest KPOI to the start v_m = {ids[v_m]}, "
-                f"P_{i} = {_names(ids, path)}, cost {cost:g}, budget left {threshold - cost:g}"
+                f"P_{i} = {_names(ids, path)}, cost {cost:g}, budget left {threshold - cost:g}",
+                paths, current=len(paths) - 1, candidate=v_m, anchor=0, accepted=True, cost=cost, threshold=threshold,
             )
-        _extend(d, ids, path, cost, v_m, threshold, reading.grow_from_end, left, blocked, cover, tests, trace, label)
-        paths.append(path)
+        _extend(d, ids, paths, cost, v_m, threshold, reading.grow_from_end, left, blocked, cover, tests, record,
+                label)
         # 5e
         i += 1
-    if trace is not None:
-        trace.append(
+    if record is not None:
+        record.add(
             f"{label} step 6: k = i - 1 = {_plural(len(paths), 'robot')} "
-            f"(the printed 'k = i' would count {i}: step 5e already moved i past the last path)"
+            f"(the printed 'k = i' would count {i}: step 5e already moved i past the last path)", paths
         )
     return paths
 
@@ -306,7 +389,7 @@ def _supplementary_steps(
     blocked: np.ndarray,
     cover: Callable[[int], None],
     tests: _Tests,
-    trace: list[str] | None,
+    record: _Recorder | None,
 ) -> float:
     """Algorithm 1-1 steps 1-4: extend the first path while it meets ``c_p``.
 
@@ -319,18 +402,21 @@ def _supplementary_steps(
         v_m = int(np.argmin(d[v_d] + blocked)) if from_end else nearest_to_start()
         new_cost = cost + float(d[v_d, v_m])
         ok = tests.passes(new_cost, c_p)
-        if trace is not None:
+        if ok:
+            first.append(v_m)
+            cover(v_m)
+        if record is not None:
             sign = "<=" if ok else ">"
             near = f"the end {ids[v_d]}" if from_end else "the start"
-            trace.append(
+            record.add(
                 f"Alg 1-1 step 1-2: nearest KPOI to {near}: {ids[v_m]}; "
                 f"{cost:g} + {d[v_d, v_m]:g} = {new_cost:g} {sign} c_p = {c_p:g}, "
-                + (f"add it (steps 3-4), budget left {c_p - new_cost:g}" if ok else "break")
+                + (f"add it (steps 3-4), budget left {c_p - new_cost:g}" if ok else "break"),
+                [first], current=0, candidate=v_m, anchor=v_d, accepted=ok, cost=new_cost if ok else cost,
+                threshold=c_p,
             )
         if not ok:
             break
-        first.append(v_m)
-        cover(v_m)
         cost = new_cost
     return cost
 
@@ -338,7 +424,7 @@ def _supplementary_steps(
 def _extend(
     d: np.ndarray,
     ids: tuple[str, ...],
-    path: list[int],
+    paths: list[list[int]],
     cost: float,
     v_m: int,
     threshold: float,
@@ -347,16 +433,17 @@ def _extend(
     blocked: np.ndarray,
     cover: Callable[[int], None],
     tests: _Tests,
-    trace: list[str] | None,
+    record: _Recorder | None,
     label: str,
 ) -> None:
-    """Step 5d: append the nearest remaining KPOI while the path meets the threshold.
+    """Step 5d: append the nearest remaining KPOI to the last of ``paths`` while it meets the threshold.
 
     Literal reading: nearest to ``v_m`` and the printed test
     ``cost(pi_i) + w(v_m, v_j) <= threshold``, plus the repair that refuses a KPOI
     taking the path itself past the threshold. ``from_end``: nearest to the
     current end, which moves to each inserted KPOI.
     """
+    path = paths[-1]
     while left > 0:
         end = path[-1]
         anchor = end if from_end else v_m
@@ -365,7 +452,11 @@ def _extend(
         actual = cost + float(d[end, v_j])
         ok = tests.passes(printed, threshold)
         repaired = ok and anchor != end and not tests.passes(actual, threshold)
-        if trace is not None:
+        inserted = ok and not repaired
+        if inserted:
+            path.append(v_j)
+            cover(v_j)
+        if record is not None:
             sign = "<=" if ok else ">"
             line = (
                 f"{label} step 5d: nearest KPOI to {ids[anchor]}: {ids[v_j]}; {cost:g} + "
@@ -377,11 +468,10 @@ def _extend(
                 line += f"insert; path cost {actual:g}, budget left {threshold - actual:g}"
             else:
                 line += "break"
-            trace.append(line)
-        if not ok or repaired:
+            record.add(line, paths, current=len(paths) - 1, candidate=v_j, anchor=anchor, accepted=inserted,
+                       cost=actual if inserted else cost, threshold=threshold)
+        if not inserted:
             return
-        path.append(v_j)
-        cover(v_j)
         cost = actual
         left -= 1
 
@@ -394,7 +484,7 @@ def algorithm_2(
     paths: list[list[int]],
     deadline: float | None = None,
     *,
-    trace: list[str] | None = None,
+    trace: Trace | None = None,
     tests: _Tests | None = None,
 ) -> list[list[int]]:
     """Tours of Algorithm 2: pair the costliest path with its best partner.
@@ -420,10 +510,11 @@ def algorithm_2(
     tests = _Tests() if tests is None else tests
     d = instance.distances
     ids = instance.ids
+    record = _Recorder(trace, ids) if trace is not None else None
     costs = np.array([_path_cost(d, p) for p in paths])
     ends = np.array([p[-1] for p in paths], dtype=np.int64)
     alive = np.ones(len(paths), dtype=bool)
-    tours = []
+    tours: list[list[int]] = []
     i = 1
     while alive.any():
         # Steps 1-2: the costliest remaining path pi_a and its end v_d.
@@ -439,26 +530,29 @@ def algorithm_2(
             tours.append(paths[a] + paths[b][::-1])
         else:
             tours.append(list(paths[a]))
-        if trace is not None:
+        if record is not None:
+            alone = costs[a] + d[ends[a], 0]
             head = f"Alg 2 steps 1-5: tour {i}: costliest path {a + 1} (cost {costs[a]:g}, end {ids[ends[a]]})"
             if joined:
                 assert b is not None
-                trace.append(
+                line = (
                     f"{head} + path {b + 1} (end {ids[ends[b]]}): {costs[a]:g} + "
                     f"{d[ends[a], ends[b]]:g} + {costs[b]:g} = {pair[b]:g}"
                     + ("" if deadline is None else f", budget left {deadline - pair[b]:g}")
                 )
             elif b is None:
-                trace.append(f"{head}: no path left to pair with, a tour alone ({costs[a] + d[ends[a], 0]:g})")
+                line = f"{head}: no path left to pair with, a tour alone ({alone:g})"
             else:
-                trace.append(
-                    f"{head}: best partner path {b + 1} gives {pair[b]:g} > {deadline:g}, "
-                    f"a tour alone ({costs[a] + d[ends[a], 0]:g})"
-                )
+                line = f"{head}: best partner path {b + 1} gives {pair[b]:g} > {deadline:g}, a tour alone ({alone:g})"
+            record.add(
+                line, paths, tours, current=len(tours) - 1, accepted=joined, threshold=deadline,
+                cost=float(pair[b]) if joined else float(alone),
+                joined=(a, b) if joined else (a,), remaining=tuple(int(l) for l in np.flatnonzero(alive)),
+            )
         # Step 6
         i += 1
-    if trace is not None:
-        trace.append(f"Alg 2 step 6: Phi is empty: {_plural(len(tours), 'tour')}")
+    if record is not None:
+        record.add(f"Alg 2 step 6: Phi is empty: {_plural(len(tours), 'tour')}", paths, tours)
     return tours
 
 
@@ -545,29 +639,28 @@ def _answer(
     least = problem.least_makespan(instance)
 
     def run(threshold: float, supplementary: bool) -> _Run:
-        lines: list[str] | None = [] if trace else None
+        steps: Trace | None = [] if trace else None
         if problem.tours:
-            return _tour_run(instance, threshold, supplementary, reading, lines)
-        return _path_run(instance, threshold, supplementary, reading, lines)
+            return _tour_run(instance, threshold, supplementary, reading, steps)
+        return _path_run(instance, threshold, supplementary, reading, steps)
 
     if problem.objective == "makespan":
         assert problem.robots is not None
         best, search = _scan(run, least, problem.robots, time_limit, max_scan_runs)
         info: dict[str, Any] = {"algorithm": best.algorithm, "threshold": best.threshold, "search": search}
+        lines = search.pop("lines")
         if trace:
             assert best.trace is not None
-            info["trace"] = search.pop("lines") + best.trace + [_summary(problem, best.routes)]
-        else:
-            search.pop("lines")
+            info |= _trace_info([TraceStep(line) for line in lines] + best.trace, instance, problem, best.routes)
         return Solution(routes=best.routes, info=info)
 
     if problem.tours and problem.deadline is None:
-        lines: list[str] | None = [] if trace else None
-        paths = algorithm_1(instance, reading=reading, trace=lines)
-        tours = algorithm_2(instance, paths, trace=lines)
+        steps: Trace | None = [] if trace else None
+        paths = algorithm_1(instance, reading=reading, trace=steps)
+        tours = algorithm_2(instance, paths, trace=steps)
         info = {"algorithm": "1 + 2 (published)", "threshold": instance.c_max}
-        if lines is not None:
-            info["trace"] = lines + [_summary(problem, tours)]
+        if steps is not None:
+            info |= _trace_info(steps, instance, problem, tours)
         return Solution(routes=tours, drops_deadline=True, info=info)
 
     deadline = problem.effective_deadline(instance)
@@ -578,7 +671,7 @@ def _answer(
     info = {"algorithm": result.algorithm, "threshold": result.threshold}
     if trace:
         assert result.trace is not None
-        info["trace"] = result.trace + [_summary(problem, result.routes)]
+        info |= _trace_info(result.trace, instance, problem, result.routes)
     return Solution(routes=result.routes, info=info)
 
 
@@ -587,7 +680,7 @@ def _path_run(
     c_p: float,
     supplementary: bool,
     reading: Reading,
-    trace: list[str] | None,
+    trace: Trace | None,
     tests: _Tests | None = None,
 ) -> _Run:
     """Algorithm 1 (``supplementary=False``) or Algorithm 1-1 at ``c_p``.
@@ -604,14 +697,17 @@ def _path_run(
 
 
 def _tour_run(
-    instance: Instance, c_t: float, supplementary: bool, reading: Reading, trace: list[str] | None
+    instance: Instance, c_t: float, supplementary: bool, reading: Reading, trace: Trace | None
 ) -> _Run:
     """Paths at ``c_p = c_t / 2`` (Algorithm 1 or 1-1) paired within ``c_t`` (Algorithm 2)."""
     path_tests = _Tests(scale=2.0)
     paths_run = _path_run(instance, c_t / 2, supplementary, reading, trace, path_tests)
     c_t = max(c_t, 2 * paths_run.threshold)
     if trace is not None:
-        trace.append(f"Alg 2: pair the {len(paths_run.routes)} paths into tours within c_t = {c_t:g}")
+        _Recorder(trace, instance.ids).add(
+            f"Alg 2: pair the {len(paths_run.routes)} paths into tours within c_t = {c_t:g}", paths_run.routes,
+            threshold=c_t, remaining=tuple(range(len(paths_run.routes))),
+        )
     pair_tests = _Tests()
     tours = algorithm_2(instance, paths_run.routes, c_t, trace=trace, tests=pair_tests)
     tests = _Tests(
@@ -701,9 +797,13 @@ def _names(ids: tuple[str, ...], indices: list[int]) -> str:
     return "[" + ", ".join(ids[i] for i in indices) + "]"
 
 
-def _summary(problem: Problem, routes: list[list[int]]) -> str:
+def _trace_info(steps: Trace, instance: Instance, problem: Problem, routes: list[list[int]]) -> dict[str, Any]:
+    """``info["trace"]`` (the lines) and ``info["steps"]`` (the records), the result's step last."""
     kind = "tour" if problem.tours else "path"
-    return f"Result: {_plural(len(routes), 'robot')} ({_plural(len(routes), kind)})"
+    summary = f"Result: {_plural(len(routes), 'robot')} ({_plural(len(routes), kind)})"
+    recorded = [*steps]
+    _Recorder(recorded, instance.ids).add(summary, **{"tours" if problem.tours else "paths": routes})
+    return {"trace": [step.text for step in recorded], "steps": tuple(recorded)}
 
 
 def _plural(count: int, noun: str) -> str:

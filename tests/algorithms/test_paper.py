@@ -243,6 +243,29 @@ def test_trace_on_fig1(fig1_grid: Instance) -> None:
     assert "trace" not in pc.solve(fig1_grid, method="paper").info
 
 
+@pytest.mark.parametrize(("routes", "robots"), [("paths", None), ("paths", 2), ("tours", None), ("tours", 2)])
+def test_trace_steps_record_each_line_with_its_state(fig1_grid: Instance, routes: str, robots: int | None) -> None:
+    # info["steps"] holds one record per line of info["trace"], in order; the state it
+    # carries agrees with the routes returned and with the budget the line prints.
+    result = pc.solve(fig1_grid, routes, robots=robots, method="paper", trace=True)
+    steps = result.info["steps"]
+    assert [step.text for step in steps] == result.info["trace"]
+    final = steps[-1].tours if routes == "tours" else steps[-1].paths
+    start = fig1_grid.start
+    assert [[start, *r, *([start] if routes == "tours" else [])] for r in final] == result.routes
+    for step in steps:
+        if step.budget_left is not None and "budget left" in step.text:
+            assert f"budget left {step.budget_left:g}" in step.text
+        if step.candidate is not None and step.current is not None and step.paths:
+            # a candidate is in the path grown exactly when the step took it
+            assert (step.candidate in step.paths[step.current]) == step.accepted
+    pairing = [step for step in steps if step.text.startswith("Alg 2 steps")]
+    assert len(pairing) == (len(result.routes) if routes == "tours" else 0)
+    for step in pairing:  # each tour is its paths joined: P_a, then P_b reversed
+        a, *b = step.joined
+        assert step.tours[step.current] == step.paths[a] + (step.paths[b[0]][::-1] if b else ())
+
+
 # -- properties ------------------------------------------------------------------------
 
 
