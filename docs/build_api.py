@@ -40,12 +40,22 @@ def build(output: Path) -> list[str]:
 
     pdoc.render.configure(docformat="numpy", math=True, search=True,
                           footer_text="parcover: multi-robot parallel coverage")
+    _load_lazy_names()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         pdoc.pdoc(*modules(), output_directory=output)
     # pdoc adds the submodules a package's __all__ names by itself, then says so when the
     # list names them again: not a problem of the reference.
     return [" ".join(str(w.message).split()) for w in caught if "has already been added" not in str(w.message)]
+
+
+def _load_lazy_names() -> None:
+    """Bind the names ``parcover`` loads on first use (``parcover._LAZY``: the drawing
+    functions) in its namespace, where pdoc looks for the names of ``__all__``."""
+    import parcover
+
+    for name in parcover._LAZY:
+        setattr(parcover, name, getattr(parcover, name))
 
 
 def main(argv: list[str]) -> int:
