@@ -1063,6 +1063,9 @@ def write_report(
     (out / "meta.json").write_text(json.dumps(meta, indent=2) + "\n", encoding="utf-8")
     drawn = []
     if plots:
+        if sys.stderr.isatty() if progress is None else progress:
+            print(f"report: drawing the plots (the largest instance's frontiers, solved by {reference}; "
+                  f"the {worst_cases} largest gaps) ...", file=sys.stderr, flush=True)
         drawn = draw_plots(frame, load_instances(items), out, reference, time_limit, seed, worst_cases)
     path = out / "report.md"
     path.write_text(render_report(frame, meta, drawn, worst_cases), encoding="utf-8")

@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import math
 import random
+import sys
 import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
@@ -695,6 +696,7 @@ def report(*, budget: float, seed: int, out_dir: str | Path, report_path: str | 
         found = search(target, budget=budget, seed=seed)
         founds.append(found)
         lines.append(found_row(found, save_found(found, out_dir)))
+    _phase("the halving line: every reading against exact, n = 4, 8, ... (tens of seconds)")
     members = family()
     largest = max(m.n for m in members)
     lines += ["", "## A family whose ratio grows: the halving line", "",
@@ -714,6 +716,7 @@ def report(*, budget: float, seed: int, out_dir: str | Path, report_path: str | 
     for factor in FAMILY_FACTORS:
         title = "c_max (Alg. 1)" if factor == 1.0 else f"{factor:g} c_max (Alg. 1-1)"
         lines += [f"Paths within {title}, robots per reading:", "", *family_table(members, factor), ""]
+    _phase("drawing the halving line and the ratios")
     drawing = draw_family(15, pictures / "halving_line.png")
     lines += [f"![the halving line, n = 16]({pictures.name}/{drawing.name})", "",
               "The halving line with L = 15 (n = 16): left, the literal Alg. 1's 5 paths "
@@ -724,6 +727,7 @@ def report(*, budget: float, seed: int, out_dir: str | Path, report_path: str | 
               "the readings). Right: the halving line's literal reading at c_max, 1.25 and 1.5 c_max (proven "
               "optima), against (1 + log2 n) / 2."]
     lines += growth_section(founds, members, budget)
+    _phase("Prop. 2's bound on 100 random instances against setpart")
     rows = prop2_rows(100, seed)
     tight = sum(best == upper for _, best, upper in rows)
     gaps = [upper - best for _, best, upper in rows]
@@ -738,6 +742,11 @@ def report(*, budget: float, seed: int, out_dir: str | Path, report_path: str | 
     Path(report_path).parent.mkdir(parents=True, exist_ok=True)
     Path(report_path).write_text(text, encoding="utf-8")
     return text
+
+
+def _phase(text: str) -> None:
+    """One line on stderr as a phase of :func:`report` starts (the searches have a bar)."""
+    print(f"worst: {text} ...", file=sys.stderr, flush=True)
 
 
 def growth_section(founds: Sequence[Found], members: Sequence[Member], budget: float) -> list[str]:
