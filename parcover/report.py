@@ -408,15 +408,17 @@ def _task_rows(task: _Task) -> list[dict[str, Any]]:
 def _unit_rows(task: _Task) -> Iterator[list[dict[str, Any]]]:
     """The rows of each pending (question, method) of ``task``, one list per unit.
 
-    Registers the task's methods where missing, rebuilds the instance, and solves
-    each distinct question once per method (the reference included).
+    Registers the task's methods the worker lacks (a method the caller registered;
+    a label ``NAME:OPTION=VALUE`` is parsed by :func:`parcover.solve.solve` from its
+    base method, so only a label whose base is missing is registered), rebuilds the
+    instance, and solves each distinct question once per method (the reference included).
     """
     from parcover.io import instance_from_dict
     from parcover.solve import available_methods, register_method, solve
 
     registry = available_methods()
     for info in (*task.methods, task.reference):
-        if info.name not in registry:
+        if info.name.split(":")[0] not in registry:
             register_method(info)
     instance = instance_from_dict(task.instance)
     cache: dict[tuple[str, int | None, float | None], Result] = {}

@@ -242,7 +242,7 @@ def best_construction(
     candidates: list[tuple[str, list[list[int]]]] = []
     share = None if time_limit is None else time_limit * _CONSTRUCTION_SHARE
     for name, info in available_methods().items():
-        if name in _NOT_STARTS:
+        if name.split(":")[0] in _NOT_STARTS:  # a label such as best:iterations=5 is best
             continue
         if stop is not None and time.perf_counter() >= stop:
             break

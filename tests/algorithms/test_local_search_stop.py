@@ -90,3 +90,29 @@ def test_robots_question_stops_early_too():
     result = solve(instance, "tours", method="best", time_limit=60.0)
     assert time.perf_counter() - began < 10.0
     assert result.robots >= result.bound
+
+
+def test_best_never_starts_from_a_labelled_best(monkeypatch):
+    # A registered label of best (as a report's worker once registered best:iterations=5)
+    # is best itself: trying it as a construction recursed until RecursionError (minutes,
+    # and answers that changed from call to call).
+    from parcover.solve import METHODS, available_methods, method_with_options
+
+    available_methods()
+    monkeypatch.setitem(METHODS, "best:iterations=5", method_with_options("best:iterations=5"))
+    instance = generate.random_points(12, 4)
+    began = time.perf_counter()
+    first = best(instance, Problem("tours", robots=3), seed=3, iterations=10)
+    second = best(instance, Problem("tours", robots=3), seed=3, iterations=10)
+    assert time.perf_counter() - began < 10.0
+    assert not first.info["start"].startswith("best")
+    assert first.routes == second.routes
+
+
+def test_a_report_with_a_label_registers_nothing():
+    from parcover import report
+    from parcover.solve import METHODS
+
+    report.gaps("random:n=5:seeds=0", ["best:iterations=3"], routes=("paths",), robots=(2,), deadlines=(),
+                reference="setpart", time_limit=None, seed=0, workers=1, progress=False)
+    assert not [name for name in METHODS if ":" in name]
