@@ -51,11 +51,13 @@ def trace_steps(result: Result) -> tuple[TraceStep, ...]:
         When the result carries no recorded steps.
     """
     steps = result.info.get("steps")
-    if not steps:
-        raise InputError(
-            f"The result of {result.method} has no recorded steps to draw; solve with a paper* method and trace=True."
-        )
-    return tuple(steps)
+    if steps:
+        return tuple(steps)
+    if not result.routes:
+        raise InputError(f"No steps to draw: the answer is {result.status.value}, the algorithm ran no step.")
+    raise InputError(
+        f"The result of {result.method} has no recorded steps to draw; solve with a paper* method and trace=True."
+    )
 
 
 def draw_step(
