@@ -36,6 +36,11 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module 'parcover' has no attribute {name!r}")
 
 
+def __dir__() -> list[str]:
+    """The module's names, the lazy ones included (for tab completion)."""
+    return sorted(set(globals()) | set(_LAZY))
+
+
 try:
     __version__ = version("parcover")
 except PackageNotFoundError:  # pragma: no cover - running from a source tree

@@ -30,7 +30,8 @@ from parcover.algorithms.paper import TraceStep
 from parcover.errors import InputError
 from parcover.instance import Instance
 from parcover.plot import (TITLE_WIDTH, distance_unit, draw_background, draw_kpois, draw_route, label_axes,
-                           legend_outside, new_figure, node_positions, question_text, route_colour, save_figure)
+                           leg_polylines, legend_outside, new_figure, node_positions, question_text, route_colour,
+                           save_figure)
 from parcover.result import Result
 
 __all__ = ["draw_step", "frame_title", "save_frames", "trace_steps", "animate"]
@@ -50,11 +51,13 @@ def trace_steps(result: Result) -> tuple[TraceStep, ...]:
         When the result carries no recorded steps.
     """
     steps = result.info.get("steps")
-    if not steps:
-        raise InputError(
-            f"The result of {result.method} has no recorded steps to draw; solve with a paper* method and trace=True."
-        )
-    return tuple(steps)
+    if steps:
+        return tuple(steps)
+    if not result.routes:
+        raise InputError(f"No steps to draw: the answer is {result.status.value}, the algorithm ran no step.")
+    raise InputError(
+        f"The result of {result.method} has no recorded steps to draw; solve with a paper* method and trace=True."
+    )
 
 
 def draw_step(
@@ -71,7 +74,7 @@ def draw_step(
     draw_background(ax, instance, pos, show_virtual=False)
     covered = _draw_routes_of(ax, instance, step, pos)
     if step.candidate is not None:
-        _draw_candidate(ax, step, pos)
+        _draw_candidate(ax, instance, step, pos)
     draw_kpois(ax, instance, pos, faded=[v for v in instance.kpois if v not in covered])
     label_axes(ax, instance)
     ax.set_title(frame_title(instance, result, step, number, count), fontsize=8.5, loc="left")
@@ -128,14 +131,16 @@ def _draw_routes_of(ax: Axes, instance: Instance, step: TraceStep, pos: dict[str
     return covered
 
 
-def _draw_candidate(ax: Axes, step: TraceStep, pos: dict[str, Point]) -> None:
-    """The KPOI considered, ringed green (taken) or red (refused), with the distance measured to it."""
+def _draw_candidate(ax: Axes, instance: Instance, step: TraceStep, pos: dict[str, Point]) -> None:
+    """The KPOI considered, ringed green (taken) or red (refused), and dotted along the shortest
+    walk to it the distance the step's test measures."""
+    assert step.candidate is not None
     colour = "tab:green" if step.accepted else "tab:red"
-    x, y = pos[step.candidate]  # type: ignore[index]
     if step.anchor is not None and step.anchor != step.candidate:
-        ax_, ay = pos[step.anchor]
-        ax.plot([ax_, x], [ay, y], linestyle=":", color=colour, lw=1.6, zorder=6,
+        [xy] = leg_polylines(instance, [step.anchor, step.candidate], pos)
+        ax.plot(xy[:, 0], xy[:, 1], linestyle=":", color=colour, lw=1.8, zorder=6,
                 label=f"distance measured from {step.anchor}")
+    x, y = pos[step.candidate]
     ax.scatter([x], [y], s=260, facecolor="none", edgecolor=colour, lw=2.0, zorder=6,
                label=f"candidate {step.candidate}: " + ("taken" if step.accepted else "refused"))
 

@@ -47,6 +47,8 @@ def test_an_existing_folder_means_frames_too(capsys, tmp_path):
         (["--method", "paper", "--plot", "{tmp}/"], "is a folder: it takes one picture per step of --trace"),  # no trace
         (["--method", "paper", "--trace", "--plot", "{tmp}/no/such/"], "no folder"),  # parent missing
         (["--method", "nn", "--trace", "--plot", "{tmp}/"], "takes no option 'trace'"),  # only paper* trace
+        (["--method", "paper", "--trace", "--deadline", "1", "--plot", "{tmp}/"],
+         "No steps to draw: the answer is infeasible"),  # a deadline below c_max = 4: nothing ran
     ],
 )
 def test_bad_frame_requests_are_one_line(capsys, tmp_path, argv, message):

@@ -211,3 +211,13 @@ def test_docstring_examples(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     assert doctest.testmod(P).failed == 0
     plt.close("all")
+
+
+def test_importing_parcover_loads_no_matplotlib_until_a_drawing_is_asked_for():
+    import subprocess
+    import sys
+
+    code = ("import sys, parcover; before = 'matplotlib' in sys.modules; parcover.plot_routes; "
+            "print(before, 'matplotlib' in sys.modules, 'plot_routes' in dir(parcover))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True)
+    assert done.stdout.split() == ["False", "True", "True"]
