@@ -29,13 +29,14 @@ A time limit is a cap, not a budget. Without ``iterations``, the search stops at
 1. its value meets a proven lower bound (:func:`parcover.bounds.lower_bound`: ``c_max``
    or ``2 c_max``, the spanning-tree and Held-Karp bounds, the fewest robots they allow):
    nothing can be better, so the answer is optimal;
-2. convergence: :func:`patience` rounds in a row (``max(100, 10 n)`` for ``n`` KPOIs)
-   without a better solution;
+2. convergence: the annealing temperature has fallen over :func:`patience` rounds
+   (``max(100, 10 n)`` for ``n`` KPOIs), and the last ``patience(n)`` rounds found
+   nothing better;
 3. the time limit.
 
-The annealing temperature then falls over ``2 * patience(n)`` rounds, so the answer
-depends on the seed alone, unless the first rounds show that this schedule will not
-fit in the time limit: the temperature then falls over the time left instead, as with
+The temperature falls over rounds, not seconds, so the answer depends on the seed
+alone, unless the first rounds show that ``patience(n)`` rounds will not fit in the
+time limit: the temperature then falls over the time left instead, as with
 ``until="limit"``, which spends the whole limit (stops 1 and 2 off). With ``iterations``
 the search runs exactly that many rounds (or until the limit). Without a time limit
 and without ``iterations``, :data:`DEFAULT_ITERATIONS` rounds.
@@ -71,7 +72,8 @@ DEFAULT_ITERATIONS = 30
 """Ruin-and-recreate rounds when neither a time limit nor ``iterations`` is given
 (about half a second for 50 KPOIs)."""
 
-#: Rounds without a better solution that end a search, at least and per KPOI (:func:`patience`).
+#: Rounds of the annealing schedule, and then without a better solution, that end a search:
+#: at least, and per KPOI (:func:`patience`).
 PATIENCE_MIN, PATIENCE_PER_KPOI = 100, 10
 #: Rounds timed before deciding whether the annealing schedule fits in the time limit.
 _CALIBRATION_ROUNDS = 5
@@ -169,8 +171,8 @@ def best(
                                target=target, patience=patience_rounds)
         return Solution(routes=routes, info={"start": name, **info})
     # robots: part of the effort on the robots search, the rest on fewer_robots
-    first = None if stop is None or patience_rounds is not None else started + _ROBOTS_SHARE * time_limit
-    routes, info = improve(instance, problem, start, seed=seed, iterations=iterations, stop=first or stop,
+    first = None if stop is None else started + _ROBOTS_SHARE * time_limit
+    routes, info = improve(instance, problem, start, seed=seed, iterations=iterations, stop=first,
                            target=target, patience=patience_rounds)
     routes, rounds = fewer_robots(instance, problem, routes, seed=seed, iterations=iterations, stop=stop,
                                   patience=patience_rounds)
@@ -196,10 +198,10 @@ def fewer_robots(
     starts from ``routes`` whose route with the fewest KPOIs is emptied into the others
     (:meth:`_Search.empty_one_route`: min-max cheapest insertion, as there is no
     deadline) and stops as soon as its makespan meets the deadline: those ``q`` routes
-    are a better answer, and ``q`` drops by one. Ends at the first
-    ``q`` not reached within ``iterations`` rounds (or ``patience`` rounds without a
-    better solution, or by ``stop``), or at the spanning-tree bound (:func:`parcover.bounds.robots_lower_bound`). Returns the routes
-    and the rounds used.
+    are a better answer, and ``q`` drops by one. Ends at the first ``q`` not reached
+    within ``iterations`` rounds (or by convergence, ``patience`` as in :func:`improve`,
+    or by ``stop``), or at the spanning-tree bound
+    (:func:`parcover.bounds.robots_lower_bound`). Returns the routes and the rounds used.
     """
     deadline = problem.effective_deadline(instance)
     assert deadline is not None
@@ -298,7 +300,7 @@ def improve(
     taken when its energy exceeds the current one by less than ``-T ln u`` (``u``
     uniform), the temperature ``T`` falling geometrically from :data:`_T_FIRST` to
     :data:`_T_LAST` times the start's makespan over the rounds (``iterations``, or
-    ``2 * patience``) or over the time to ``stop``, whichever is shorter: with
+    ``patience``) or over the time to ``stop``, whichever is shorter: with
     ``patience``, the first :data:`_CALIBRATION_ROUNDS` rounds decide whether the
     rounds fit before ``stop`` (then the clock is ignored, and the answer depends on
     the seed alone). The best solution met is kept.
@@ -315,7 +317,8 @@ def improve(
         Stop as soon as the objective meets it: the makespan within it (as a deadline),
         or at most this many robots.
     patience
-        Stop after this many rounds in a row without a better solution (``None``: never).
+        The temperature falls over this many rounds; once it has, stop after this many
+        rounds in a row without a better solution (``None``: never).
 
     Returns
     -------
@@ -336,13 +339,13 @@ def improve(
         incumbent, incumbent_key = _copy(start), start_key
     began = time.perf_counter()
     scale = max(current_key[-2], search.tol)
-    horizon = iterations if iterations is not None else (None if patience is None else 2 * patience)
+    horizon = iterations if iterations is not None else patience
     clocked = stop is not None and patience is None  # does the temperature follow the clock?
     done = last_better = 0
     while (iterations is None or done < iterations) and not search.out_of_time():
         if target is not None and _meets(incumbent_key, target):
             break
-        if patience is not None and done - last_better >= patience:
+        if patience is not None and done >= patience and done - last_better >= patience:
             break
         if stop is not None and patience is not None and done == _CALIBRATION_ROUNDS:
             clocked = began + (time.perf_counter() - began) * horizon / done > stop
@@ -366,8 +369,9 @@ def improve(
 
 
 def patience(n: int) -> int:
-    """Rounds in a row without a better solution after which ``best`` has converged,
-    for ``n`` KPOIs: ``max(PATIENCE_MIN, PATIENCE_PER_KPOI * n)``."""
+    """Rounds over which ``best``'s temperature falls, and then rounds in a row without
+    a better solution after which it has converged, for ``n`` KPOIs:
+    ``max(PATIENCE_MIN, PATIENCE_PER_KPOI * n)``."""
     return max(PATIENCE_MIN, PATIENCE_PER_KPOI * n)
 
 
@@ -385,7 +389,7 @@ def _stopping(iterations: int | None, patience: int | None, target: float | None
     if target is not None:
         rules.append(f"the lower bound {target:.6g}")
     if patience is not None:
-        rules.append(f"{patience} rounds without a better solution")
+        rules.append(f"{patience} rounds of cooling then {patience} without a better solution")
     if time_limit is not None:
         rules.append(f"{time_limit:.3g} s")
     return "stops at " + (", ".join(rules) or "once")
