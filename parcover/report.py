@@ -1,6 +1,6 @@
 """Optimality-gap reports: every method against an exact reference, on many instances.
 
-:func:`gaps` answers a grid of coverage questions (design.md section 1) on a set of
+:func:`gaps` answers a grid of coverage questions (docs/format.md section 1) on a set of
 instances with each method and with an exact *reference* method, and returns one
 row per instance x route kind x question x method (a :class:`pandas.DataFrame`,
 written to ``gaps.csv`` row by row as it is computed). :func:`write_report` adds

@@ -28,10 +28,8 @@ _ALLOWED: dict[str, str] = {}
 # Developer notes kept outside the repository, by name: a reference to one sends the reader
 # to a file a clone does not have (docs/format.md holds the formats).
 _OUTSIDE_NOTES = tuple(name + ".md" for name in ("design", "formulations", "style", "paper"))
-# Files that still name one, each for a reason.
-_NAMING_NOTES: dict[str, str] = {
-    "parcover/report.py": "its docstring cites design.md section 1; the module is being changed elsewhere",
-}
+# Files that still name one, each for a reason (none today).
+_NAMING_NOTES: dict[str, str] = {}
 
 
 def _tracked() -> list[Path]:

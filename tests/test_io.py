@@ -131,3 +131,16 @@ def test_bundled_instances_load():
     assert len(files) >= 8
     for path in files:
         assert isinstance(load(path), Instance)
+
+
+def test_an_instance_whose_distances_are_all_zero_is_accepted(tmp_path):
+    # The smallest-distance rule (largest distance >= 1e-3) is about costs lost in the
+    # tolerance; when every KPOI is at the start there is no cost to lose: every answer
+    # is one robot, makespan 0 (docs/format.md says so).
+    path = tmp_path / "zero.json"
+    path.write_text(json.dumps({"start": "s", "kpois": ["a", "b"],
+                                "coordinates": {"s": [1, 1], "a": [1, 1], "b": [1, 1]}}))
+    from parcover import solve
+
+    result = solve(load(path), "tours", robots=2)
+    assert result.makespan == 0 and result.status.value == "optimal"
