@@ -818,7 +818,13 @@ def render_report(verdicts: Sequence[Verdict], header: str = "", base: Path | No
                 parts += ["", f"![{v.claim}]({_relative(v.picture, base)})", ""]
         parts += [f"- Note: {n}" for n in v.notes]
         parts.append("")
+    parts += ["", "## How bad can the greedy get?", "", _WORST_POINTER]
     return "\n".join(parts)
+
+
+_WORST_POINTER = ("See [`worst.md`](worst.md) (`parcover worst`): the worst greedy/optimum ratios found per claim "
+                  "and reading, and the halving line, on which the literal Algorithm 1 needs 1 + ~log2 n robots "
+                  "where 2 suffice.")
 
 
 def _routes_text(result: Result) -> str:
