@@ -116,3 +116,18 @@ def test_a_report_with_a_label_registers_nothing():
     report.gaps("random:n=5:seeds=0", ["best:iterations=3"], routes=("paths",), robots=(2,), deadlines=(),
                 reference="setpart", time_limit=None, seed=0, workers=1, progress=False)
     assert not [name for name in METHODS if ":" in name]
+
+
+def test_an_astronomical_limit_returns(tmp_path):
+    # `solve X --method best --robots 2 --time-limit 1e300` on 3 KPOIs never returned when
+    # the limit was a budget.
+    import subprocess
+    import sys
+
+    path = tmp_path / "r3.json"
+    from parcover import write_instance
+
+    write_instance(generate.random_points(3, 1), path)
+    done = subprocess.run([sys.executable, "-m", "parcover", "solve", str(path), "--method", "best",
+                           "--robots", "2", "--time-limit", "1e300"], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0 and "status" in done.stdout
