@@ -197,7 +197,8 @@ class _LpOutcome:
 
 
 class _Search:
-    """Column generation and branching over one pool (merged matrix, route kind)."""
+    """Column generation and branching over one pool (merged matrix, route kind): the
+    :class:`milp.tree.Search` that :class:`milp.tree.Decision` drives."""
 
     def __init__(self, D: np.ndarray, *, tours: bool, stop_at: float | None) -> None:
         announce_compiling()
