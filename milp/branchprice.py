@@ -44,7 +44,7 @@ limited-memory coefficients of :func:`milp.ngroute.cut_coefficients` (Pecin, Pes
 Poggi and Uchoa 2017): the memory of a cut is its triple and the KPOIs the current
 solution's routes visit between two of its KPOIs (separation: :mod:`milp.cuts`). The
 pricing carries one parity bit per cut; the cut duals :math:`\sigma \le 0` enter Farley's
-bound as :math:`(\sum_i \pi_i + \sum_S \sigma_S) / \max(M, 1)`. At most :data:`MAX_CUTS`
+bound as :math:`(\sum_i \pi_i + \sum_S \sigma_S) / \max(M, 1)`. At most :data:`milp.ngroute.MAX_CUTS`
 cuts in all and :data:`CUTS_PER_KPOI` per KPOI, and only for LP solutions of at least
 :data:`CUT_MIN_ROUTES` routes: each parity bit splits the labels a dominance test can
 compare (measured: unlimited cuts made a 12-KPOI, 2-path search 200x slower, while the
@@ -137,9 +137,9 @@ BISECTION_SHARE, LP_BOUND_TOL = 0.25, 1e-4
 NG_BISECTION_FIRST = 0.25
 #: Share of the time left (and a cap in seconds) for each run of the integer master.
 MASTER_IP_SHARE, MASTER_IP_CAP = 0.1, 5.0
-#: Subset-row cuts: at most this many in all (the pricing's parity bits), added per
-#: round, and the least violation that counts.
-MAX_CUTS, CUTS_PER_ROUND, CUT_VIOLATION = 64, 8, 0.05
+#: Subset-row cuts added per round (at most :data:`milp.ngroute.MAX_CUTS` in all: the
+#: pricing's parity bits), and the least violation that counts.
+CUTS_PER_ROUND, CUT_VIOLATION = 8, 0.05
 #: A KPOI belongs to at most this many cuts' triples.
 CUTS_PER_KPOI = 4
 #: Cuts only for LP solutions with at least this many routes: with few long routes the
@@ -343,7 +343,7 @@ class _Search:
                      threshold: float = 1.0) -> ngroute.PricingResult:
         """Pricing for duals ``y = (pi, sigma)``: prizes ``pi``, cut penalties ``sigma``;
         routes whose prize exceeds ``threshold``."""
-        penalties = np.zeros(64)
+        penalties = np.zeros(ngroute.MAX_CUTS)
         penalties[:len(self.cuts)] = y[self.m:]
         return self.price(np.concatenate(([0.0], y[:self.m])), budget, node, exact=exact,
                           threshold=threshold, cuts=self.cut_bits, memories=self.cut_memory,
@@ -361,7 +361,7 @@ class _Search:
     def _separate(self, outcome: _LpOutcome) -> bool:
         """Add the subset-row cuts (5) most violated by the master's solution; whether
         any was added."""
-        room = MAX_CUTS - len(self.cuts)
+        room = ngroute.MAX_CUTS - len(self.cuts)
         if room <= 0 or outcome.value < CUT_MIN_ROUTES:
             return False
         support = np.flatnonzero(outcome.x > INTEGRAL)
