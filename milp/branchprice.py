@@ -116,14 +116,15 @@ from milp.merge import Merged, checked_start, merge_zero_distances, model_result
 from milp.result import MilpResult
 from milp.tree import ROUND, Decision, Improve, Settled, rounded_up
 from milp.routes import check_distance_matrix, first_visits, least_makespan, makespan
+from milp.sizes import BRANCHPRICE_MAX_KPOIS
 from milp.warmstart import nearest_neighbour_order, split_min_makespan
 
 log = logging.getLogger(__name__)
 
 __all__ = ["min_robots", "min_makespan", "ready_within", "compile_pricing", "MAX_KPOIS", "COMPILE_SECONDS"]
 
-#: Largest number of (merged) KPOIs the pricing's bit masks are tested with.
-MAX_KPOIS = 200
+#: Largest number of (merged) KPOIs (:data:`milp.sizes.BRANCHPRICE_MAX_KPOIS`).
+MAX_KPOIS = BRANCHPRICE_MAX_KPOIS
 #: Relative tolerance of certificates (round-off in sums of duals).
 CERT_TOL = 1e-9
 #: Weight of the stability center in the pricing duals.

@@ -14,6 +14,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
+from milp.sizes import SETPART_MAX_KPOIS
 from parcover.compare import compare_optimum
 from parcover.instance import Instance, Metric
 from parcover.io import read_instance, read_json
@@ -23,12 +24,10 @@ from parcover.result import Result
 __all__ = ["Answer", "Question", "GreedyLimit", "Check", "check", "render_check", "load", "reading_of",
            "exact_method_for"]
 
-_SETPART_MAX_N = 20  # milp.setpart.MAX_KPOIS (not imported here: it loads HiGHS)
-
 
 def exact_method_for(instance: Instance) -> str:
-    """``setpart`` up to its size limit (20 KPOIs), else ``exact``."""
-    return "setpart" if instance.n <= _SETPART_MAX_N else "exact"
+    """``setpart`` up to its size limit (:data:`milp.sizes.SETPART_MAX_KPOIS` KPOIs), else ``exact``."""
+    return "setpart" if instance.n <= SETPART_MAX_KPOIS else "exact"
 
 
 @dataclass(frozen=True)
