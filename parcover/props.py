@@ -20,10 +20,11 @@ grids, the Fig. 3 stars, seeded random Euclidean and graph instances, the bundle
 - ``alg2-makespan-METHOD`` (Alg. 2): its makespan is the least for that many tours.
 
 Honesty: every claim is a statement about an optimum ``opt`` that the reference
-brackets between its proven bound and its verified value. An instance refutes a
-claim only when that bracket does: a proven optimum or bound on the wrong side, or
-a verified exact solution better than the greedy's (a witness). When the bracket
-straddles the claimed value the instance is *undecided* and counted as such.
+brackets between its proven bound and its verified value (:mod:`parcover.compare`).
+An instance refutes a claim only when that bracket does: a proven optimum or bound
+on the wrong side, or a verified exact solution better than the greedy's (a witness).
+When the bracket straddles the claimed value the instance is *undecided* and counted
+as such.
 
 Counterexamples are shrunk by :func:`shrink` (fewest KPOIs first, then simplest
 coordinates), saved with :func:`parcover.io.write_instance` and drawn beside the
