@@ -7,7 +7,7 @@ some of them only: each section's text is also kept in ``<figures>/<section>.jso
 the report shows the sections not run this time from there, each with the date and
 command of its own run (``--sections ''`` runs none and only rewrites the report). The report
 starts with the command that reruns every section, the command that wrote it, the machine
-and the package versions; it ends with the issue's targets and the figures reached.
+and the package versions; it ends with the targets and the figures reached.
 """
 
 from __future__ import annotations

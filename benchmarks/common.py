@@ -65,7 +65,7 @@ class Section:
     tables
         DataFrames written as ``<figures>/<name>.csv``.
     targets
-        One line per target of the benchmarks issue: the target and the figure reached.
+        One line per target of the section: the target and the figure reached.
     """
 
     title: str

@@ -1,6 +1,6 @@
 """Exact scaling: time to a proven optimum, our exact methods against each other and peers.
 
-Section 1 of the benchmarks issue. On random Euclidean instances
+On random Euclidean instances
 (:func:`benchmarks.common.euclidean_points`) it runs, side by side in the same process
 run, ``parcover``'s default ``exact`` (:func:`parcover.exact.exact`: above 20 KPOIs
 branch-and-price, raced against branch-and-cut for the least makespan with 2-3 robots),
@@ -63,7 +63,7 @@ OURS = "exact"
 def grid(quick: bool) -> list[dict]:
     """The cells run: problem, n, seed, route kind, k or deadline factor, models, limit.
 
-    Full run (the issue's grid): n in :data:`SIZES`, paths and tours, every problem of
+    Full run: n in :data:`SIZES`, paths and tours, every problem of
     :data:`PROBLEMS`; every seed of :data:`SEEDS` for :data:`TARGET_PROBLEMS`, seed 1 for
     the rest. Branch-and-price and the compact model everywhere, set partitioning to :data:`SETPART_MAX`,
     CP-SAT to :data:`CPSAT_MAX`, the naive models on seed 1 at :data:`NAIVE_SIZES` (and
@@ -283,7 +283,7 @@ def plot(frame: pd.DataFrame, config: Config) -> str:
 
 
 def check_targets(frame: pd.DataFrame, ratios: pd.DataFrame) -> list[str]:
-    """One line per target of the issue with the figure reached."""
+    """One line per target with the figure reached."""
     return [_cpsat_target(ratios), _plain_target(ratios), _n30_target(frame), _n40_target(frame),
             _robots50_target(frame)]
 
@@ -316,8 +316,8 @@ def _plain_target(ratios: pd.DataFrame) -> str:
 
 
 def _n30_target(frame: pd.DataFrame) -> str:
-    """n = 30, k = 3, paths and tours, proven within 60 s on every seed (the exact
-    issue's target); then, for information, how many of all n = 30 cells were."""
+    """n = 30, k = 3, paths and tours, proven within 60 s on every seed (the target);
+    then, for information, how many of all n = 30 cells were."""
     ours30 = frame[(frame["n"] == 30) & (frame["model"] == OURS)]
     if ours30.empty:
         return "exact: n = 30, k = 3 proven within 60 s: not measured"

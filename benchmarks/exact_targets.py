@@ -1,6 +1,6 @@
-"""Exact targets: the issue's scale targets on the grid's seeds and on seeds never tuned on.
+"""Exact targets: the exact methods' scale targets on the grid's seeds and on seeds never tuned on.
 
-The cells the exact issue names (least makespan for n = 30, k = 3 and n = 40, k = 5
+The cells the targets name (least makespan for n = 30, k = 3 and n = 40, k = 5
 within 60 s; fewest robots for n = 50 within 1.0 and 1.2 x the least makespan within
 10 s; paths and tours), each on the seeds of the exact-scaling grid (1-3, used while
 designing branch-and-price) and on unseen seeds (11-13), solved in the same run by

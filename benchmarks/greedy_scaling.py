@@ -1,4 +1,4 @@
-"""Greedy scaling (benchmarks issue, item 4): time and memory of the greedy methods, 100 to 5,000 KPOIs.
+"""Greedy scaling: time and memory of the greedy methods, 100 to 5,000 KPOIs.
 
 The paper's Algorithm 1 (literal and nearest-end readings), Algorithm 1-1 at a deadline of
 ``1.2 c_max``, Algorithm 2 (tours, Algorithm 1's paths paired as published) and the
@@ -11,7 +11,7 @@ separately. Each method is called directly, without :func:`parcover.solve`'s ver
 Time is the best of a few repeats (one for the largest sizes); peak memory is measured in a
 separate run with :mod:`tracemalloc` (numpy's allocations included) beyond the instance
 itself. The growth exponent is the least-squares slope of ``log(time)`` on ``log(n)`` over
-``n >= 500`` (over every size in the quick run, which stops at 500). The issue's target:
+``n >= 500`` (over every size in the quick run, which stops at 500). The target:
 5,000 KPOIs in under 2 s on one core, Algorithm 1 and every construction.
 """
 
@@ -131,7 +131,7 @@ def summary(frame: pd.DataFrame, least: float) -> pd.DataFrame:
 
 
 def target_line(frame: pd.DataFrame) -> str:
-    """The issue's target (5,000 KPOIs in under 2 s) and the figure reached."""
+    """The target (5,000 KPOIs in under 2 s) and the figure reached."""
     head = f"5,000 KPOIs under {TARGET_SECONDS:g} s on one core"
     at = frame[(frame["n"] == TARGET_N) & (frame["method"] != BUILD)]
     if at.empty:

@@ -12,8 +12,8 @@ in a 100 x 100 square, :func:`benchmarks.common.euclidean_distances`), paths and
   and the column-generation bound (:func:`milp.colgen.makespan_lower_bound`, at most
   :data:`BOUND_SECONDS`).
 - **Fewest robots within a deadline** of 1.2 times the least possible makespan
-  (``c_max`` for paths, ``2 c_max`` for tours; the deadline of issue 7's exact
-  section): ``best``, ``paper`` and PyVRP (max distance, large fixed vehicle cost,
+  (``c_max`` for paths, ``2 c_max`` for tours; a deadline of the exact targets,
+  :mod:`benchmarks.exact_targets`): ``best``, ``paper`` and PyVRP (max distance, large fixed vehicle cost,
   :mod:`benchmarks.peers.pyvrp_fleet`) with the same time limit; the bound likewise
   with :func:`milp.colgen.robots_lower_bound`.
 
@@ -229,7 +229,7 @@ def ratio_summary(ratios: pd.Series) -> dict[str, float]:
 
 
 def target_line(makespans: pd.DataFrame) -> str:
-    """The issue's target for this section and the figure reached."""
+    """This section's target and the figure reached."""
     target = "best no worse than OR-Tools at equal time (ratio <= 1.00)"
     s = ratio_summary(makespans["best/ortools"])
     if s["cells"] == 0:

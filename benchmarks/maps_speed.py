@@ -1,4 +1,4 @@
-"""Maps speed: building instances from Stage floor-plan bitmaps (maps issue, issue 5 target).
+"""Maps speed: building instances from Stage floor-plan bitmaps, against a target time.
 
 For ``hospital_section.png`` at Stage's ``everything.world`` scale (40 m x 18 m: 0.0368 x
 0.0406 m/px) with 50 KPOIs (20 in the quick run), and in the full run also ``cave.png``
@@ -45,7 +45,7 @@ def measure_map(image: Path, scale: float | tuple[float, float], kpois: int) -> 
 
 
 def target_line(frame: pd.DataFrame) -> str:
-    """Issue 5's target (a few seconds per build with 50 KPOIs) and the figure reached."""
+    """The target (a few seconds per build with 50 KPOIs) and the figure reached."""
     rows = frame[frame["map"] == TARGET[0]]
     kpois = int(rows["kpois"].iloc[0])
     times = ", ".join(f"{r.graph} {r.seconds:.2f} s" for r in rows.itertuples())

@@ -1,8 +1,8 @@
 """The min-max multiple-TSP literature: the Necula cells, our value and certified bound.
 
-Issues 7 and 13. Instances eil51, berlin52, eil76 and rat99 (TSPLIB, ``instances/tsplib/``,
+Instances eil51, berlin52, eil76 and rat99 (TSPLIB, ``instances/tsplib/``,
 read with exact Euclidean distances, node 1 the start) with m = 2, 3, 5, 7 tours (Necula,
-Breaban and Raschip, ICTAI 2015). Each cell gets the issue's 10 minutes:
+Breaban and Raschip, ICTAI 2015). Each cell gets 10 minutes:
 
 - our value and the exact method's bound: ``parcover.solve(..., method="best")`` for
   :data:`BEST_SECONDS`, then ``parcover.solve(..., method="exact")`` from its tours (at
@@ -38,7 +38,7 @@ INSTANCES = ("eil51", "berlin52", "eil76", "rat99")
 ROBOTS = (2, 3, 5, 7)
 QUICK_CELLS = (("eil51", 5),)
 #: Seconds per cell for ``best``, the exact method and the column-generation bound (full
-#: run): 10 minutes a cell in all, as the issue allows.
+#: run): 10 minutes a cell in all.
 BEST_SECONDS, EXACT_SECONDS, BOUND_SECONDS = 60.0, 420.0, 120.0
 QUICK_BEST_SECONDS, QUICK_EXACT_SECONDS, QUICK_BOUND_SECONDS = 1.0, 3.0, 3.0
 #: Relative tolerance for "proven optimal".
@@ -97,7 +97,7 @@ def cells_table(rows: list[dict]) -> pd.DataFrame:
 
 
 def targets(frame: pd.DataFrame, cells: int) -> list[str]:
-    """The issue's three targets with the figures reached (out of all 16 cells)."""
+    """The three targets with the figures reached (out of all 16 cells)."""
     above = int(frame["bound >= CPLEX"].sum())
     close = int((frame["value vs best %"] <= 0.5).sum())
     proven = int(frame["proven"].sum())

@@ -2,7 +2,7 @@ r"""Two MILP models a user would write first, in HiGHS: the peers of :mod:`milp.
 
 These are benchmark baselines, not parcover methods: no merging of coincident KPOIs, no
 arc pruning, no warm start, no bound beyond what each model needs to be correct. Both
-solve the two problems of the benchmarks issue on a distance matrix ``D`` (index 0 the
+solve the two problems of the benchmarks on a distance matrix ``D`` (index 0 the
 start, ``1..n`` the KPOIs): least makespan with at most ``k`` robots, and fewest robots
 whose routes all meet a deadline ``U``, for open paths and for tours.
 

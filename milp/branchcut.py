@@ -82,16 +82,14 @@ from milp.highs import BOUND_SLACK, new_highs
 from milp.merge import checked_start, merge_zero_distances, model_result
 from milp.result import MilpResult
 from milp.routes import check_distance_matrix, makespan
+from milp.sizes import BRANCHCUT_MAX_KPOIS
 
 log = logging.getLogger(__name__)
 
 __all__ = ["min_makespan", "MAX_KPOIS", "ROOT_SHARE"]
 
-#: Largest instance accepted (the model has k x n^2 / 2 edge columns). The time limit
-#: holds to it (TSPLIB kroA100 and rat99, 2 and 3 tours, 10 and 30 s: at most 2.4% over);
-#: above, HiGHS's own cut separation at the root node ignores its time limit for seconds
-#: (ch150 with 3 tours, 10 s: 15.7 s, 10 s of it in one root separation round).
-MAX_KPOIS = 100
+#: Largest instance accepted (:data:`milp.sizes.BRANCHCUT_MAX_KPOIS`, which says why).
+MAX_KPOIS = BRANCHCUT_MAX_KPOIS
 #: Share of the time limit the root's cutting-plane loop may use.
 ROOT_SHARE = 0.3
 #: A cut (3) is added when violated by more than this.

@@ -44,7 +44,7 @@ limited-memory coefficients of :func:`milp.ngroute.cut_coefficients` (Pecin, Pes
 Poggi and Uchoa 2017): the memory of a cut is its triple and the KPOIs the current
 solution's routes visit between two of its KPOIs (separation: :mod:`milp.cuts`). The
 pricing carries one parity bit per cut; the cut duals :math:`\sigma \le 0` enter Farley's
-bound as :math:`(\sum_i \pi_i + \sum_S \sigma_S) / \max(M, 1)`. At most :data:`MAX_CUTS`
+bound as :math:`(\sum_i \pi_i + \sum_S \sigma_S) / \max(M, 1)`. At most :data:`milp.ngroute.MAX_CUTS`
 cuts in all and :data:`CUTS_PER_KPOI` per KPOI, and only for LP solutions of at least
 :data:`CUT_MIN_ROUTES` routes: each parity bit splits the labels a dominance test can
 compare (measured: unlimited cuts made a 12-KPOI, 2-path search 200x slower, while the
@@ -116,14 +116,15 @@ from milp.merge import Merged, checked_start, merge_zero_distances, model_result
 from milp.result import MilpResult
 from milp.tree import ROUND, Decision, Improve, Settled, rounded_up
 from milp.routes import check_distance_matrix, first_visits, least_makespan, makespan
+from milp.sizes import BRANCHPRICE_MAX_KPOIS
 from milp.warmstart import nearest_neighbour_order, split_min_makespan
 
 log = logging.getLogger(__name__)
 
 __all__ = ["min_robots", "min_makespan", "ready_within", "compile_pricing", "MAX_KPOIS", "COMPILE_SECONDS"]
 
-#: Largest number of (merged) KPOIs the pricing's bit masks are tested with.
-MAX_KPOIS = 200
+#: Largest number of (merged) KPOIs (:data:`milp.sizes.BRANCHPRICE_MAX_KPOIS`).
+MAX_KPOIS = BRANCHPRICE_MAX_KPOIS
 #: Relative tolerance of certificates (round-off in sums of duals).
 CERT_TOL = 1e-9
 #: Weight of the stability center in the pricing duals.
@@ -137,9 +138,9 @@ BISECTION_SHARE, LP_BOUND_TOL = 0.25, 1e-4
 NG_BISECTION_FIRST = 0.25
 #: Share of the time left (and a cap in seconds) for each run of the integer master.
 MASTER_IP_SHARE, MASTER_IP_CAP = 0.1, 5.0
-#: Subset-row cuts: at most this many in all (the pricing's parity bits), added per
-#: round, and the least violation that counts.
-MAX_CUTS, CUTS_PER_ROUND, CUT_VIOLATION = 64, 8, 0.05
+#: Subset-row cuts added per round (at most :data:`milp.ngroute.MAX_CUTS` in all: the
+#: pricing's parity bits), and the least violation that counts.
+CUTS_PER_ROUND, CUT_VIOLATION = 8, 0.05
 #: A KPOI belongs to at most this many cuts' triples.
 CUTS_PER_KPOI = 4
 #: Cuts only for LP solutions with at least this many routes: with few long routes the
@@ -197,7 +198,8 @@ class _LpOutcome:
 
 
 class _Search:
-    """Column generation and branching over one pool (merged matrix, route kind)."""
+    """Column generation and branching over one pool (merged matrix, route kind): the
+    :class:`milp.tree.Search` that :class:`milp.tree.Decision` drives."""
 
     def __init__(self, D: np.ndarray, *, tours: bool, stop_at: float | None) -> None:
         announce_compiling()
@@ -342,7 +344,7 @@ class _Search:
                      threshold: float = 1.0) -> ngroute.PricingResult:
         """Pricing for duals ``y = (pi, sigma)``: prizes ``pi``, cut penalties ``sigma``;
         routes whose prize exceeds ``threshold``."""
-        penalties = np.zeros(64)
+        penalties = np.zeros(ngroute.MAX_CUTS)
         penalties[:len(self.cuts)] = y[self.m:]
         return self.price(np.concatenate(([0.0], y[:self.m])), budget, node, exact=exact,
                           threshold=threshold, cuts=self.cut_bits, memories=self.cut_memory,
@@ -360,7 +362,7 @@ class _Search:
     def _separate(self, outcome: _LpOutcome) -> bool:
         """Add the subset-row cuts (5) most violated by the master's solution; whether
         any was added."""
-        room = MAX_CUTS - len(self.cuts)
+        room = ngroute.MAX_CUTS - len(self.cuts)
         if room <= 0 or outcome.value < CUT_MIN_ROUTES:
             return False
         support = np.flatnonzero(outcome.x > INTEGRAL)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from milp.jit import njit
+from milp.ngroute import MAX_CUTS
 
 __all__ = ["violated_triples", "popcount", "cut_memory"]
 
@@ -18,7 +19,7 @@ __all__ = ["violated_triples", "popcount", "cut_memory"]
 def violated_triples(counts, x, least):  # pragma: no cover - compiled
     """Triples ``(a, b, c)`` (0-based KPOIs) whose subset-row cut (5) is violated by more
     than ``least``: ``sum_r x_r floor((counts_ra + counts_rb + counts_rc) / 2) > 1``,
-    most violated first, at most 64."""
+    most violated first, at most :data:`milp.ngroute.MAX_CUTS` (all the pricing can carry)."""
     m = counts.shape[1]
     found = np.zeros((0, 4))
     rows = []
@@ -32,7 +33,7 @@ def violated_triples(counts, x, least):  # pragma: no cover - compiled
                     rows.append((float(a), float(b), float(c), total))
     if rows:
         found = np.array(rows)
-        found = found[np.argsort(-found[:, 3])][:64]
+        found = found[np.argsort(-found[:, 3])][:MAX_CUTS]
     return found[:, :3].astype(np.int64)
 
 

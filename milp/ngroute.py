@@ -104,7 +104,7 @@ from numba import objmode
 
 from milp.jit import njit
 
-__all__ = ["Pricing", "PricingResult", "cut_coefficients", "ng_memories", "NG_SIZE", "MAX_GRID"]
+__all__ = ["Pricing", "PricingResult", "cut_coefficients", "ng_memories", "NG_SIZE", "MAX_GRID", "MAX_CUTS"]
 
 #: Neighbourhood size of the ng-relaxation (KPOI itself included); Baldacci et al. use 8.
 NG_SIZE = 16
@@ -116,6 +116,9 @@ DSSR_START = 1
 MAX_GRID = 4000
 #: The labelling reads the clock after this much work (labels, dominance tests, candidates).
 CLOCK_EVERY = 20_000
+#: Most subset-row cuts the pricing handles: one bit of a ``uint64`` word each (``cuts``,
+#: ``memories``, a label's parity).
+MAX_CUTS = 64
 
 
 @dataclass
@@ -223,17 +226,17 @@ class Pricing:
             certified.
         cuts : numpy.ndarray, optional
             ``(m+1,)`` ``uint64``: bit ``t`` of ``cuts[j]`` is set when KPOI ``j`` is in the
-            triple of subset-row cut ``t`` (at most 64 cuts).
+            triple of subset-row cut ``t`` (at most :data:`MAX_CUTS` cuts).
         memories : numpy.ndarray, optional
             ``(m+1,)`` ``uint64``: bit ``t`` of ``memories[j]`` is set when KPOI ``j`` is in
             the memory of cut ``t`` (limited-memory cuts, :func:`cut_coefficients`).
         penalties : numpy.ndarray, optional
-            ``(64,)`` non-negative: a route loses ``penalties[t]`` of prize each time
+            ``(MAX_CUTS,)`` non-negative: a route loses ``penalties[t]`` of prize each time
             :func:`cut_coefficients` counts a pair for cut ``t`` (minus the cut's dual).
         """
         if cuts is None:
             cuts, memories = np.zeros(self.m + 1, dtype=np.uint64), np.zeros(self.m + 1, dtype=np.uint64)
-            penalties = np.zeros(64)
+            penalties = np.zeros(MAX_CUTS)
         grid = _grid_step(budget, self.shortest)
         if grid is None:
             delta, G = 1.0, 0

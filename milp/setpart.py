@@ -60,12 +60,12 @@ from scipy import sparse
 from milp.highs import LpSolve, make_lp, solve_lp
 from milp.result import MilpResult, relative_gap
 from milp.routes import check_distance_matrix, check_routes, within
+from milp.sizes import SETPART_MAX_KPOIS
 
 log = logging.getLogger(__name__)
 
-#: Largest number of KPOIs: 2^20 subsets x 20 end KPOIs is ~21 M DP states (170 MB of
-#: costs, 21 MB of parents, about 2 s); each extra KPOI doubles time and memory.
-MAX_KPOIS = 20
+#: Largest number of KPOIs (:data:`milp.sizes.SETPART_MAX_KPOIS`, which says why).
+MAX_KPOIS = SETPART_MAX_KPOIS
 
 
 def expected_seconds(n: int) -> float:

@@ -1,8 +1,9 @@
 """The tree of one fewest-routes decision in :mod:`milp.branchprice`.
 
 :class:`Decision` searches the branch-and-price tree of "at most ``target`` routes within
-``budget``" depth first, imposing first: each node is solved by column generation
-(:meth:`milp.branchprice._Search.solve_node`), closed by its certified bound rounded up
+``budget``" depth first, imposing first, driving a :class:`Search` (the column generation
+of :mod:`milp.branchprice` is one): each node is solved by column generation
+(:meth:`Search.solve_node`), closed by its certified bound rounded up
 (:func:`rounded_up`), answered by route enumeration (:class:`Settled`) or by an integral
 master, or split on an arc flow (:meth:`milp.columns.Node.children`). The primal side runs
 here too: the integer master over the pool at the root and whenever the pool has grown
@@ -13,18 +14,15 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sized
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Any, Protocol, TypeVar
 
 from milp.columns import Node
 
 log = logging.getLogger(__name__)
 
-if TYPE_CHECKING:
-    from milp.branchprice import _Search
-
-__all__ = ["Decision", "Settled", "Improve", "rounded_up", "ROUND", "POOL_GROWTH"]
+__all__ = ["Decision", "Search", "NodeOutcome", "Settled", "Improve", "rounded_up", "ROUND", "POOL_GROWTH"]
 
 #: A heuristic asked for routes (KPOIs ``1..n``) with at most the given number of routes
 #: within the deadline, or ``None``.
@@ -49,12 +47,68 @@ class Settled:
     least: bool = False
 
 
+class NodeOutcome(Protocol):
+    """What the tree reads of a node's column generation: its certified bound and why it
+    stopped (``"solved"``, ``"closed"``, ``"time limit"`` or ``"pricing stalled"``)."""
+
+    @property
+    def bound(self) -> float: ...
+
+    @property
+    def why(self) -> str: ...
+
+
+Outcome = TypeVar("Outcome", bound=NodeOutcome)
+
+
+class Search(Protocol[Outcome]):
+    """What :class:`Decision` needs of the search it drives over one pool of columns.
+
+    ``m`` KPOIs, ``tours`` or paths, ``nodes`` solved so far, the ``pool`` of columns
+    (its size tells when the integer master runs again).
+    """
+
+    @property
+    def m(self) -> int: ...
+
+    @property
+    def tours(self) -> bool: ...
+
+    @property
+    def nodes(self) -> int: ...
+
+    @property
+    def pool(self) -> Sized: ...
+
+    def out_of_time(self) -> bool:
+        """Whether the time limit is reached."""
+
+    def solve_node(self, node: Node, budget: float, target: float) -> Outcome:
+        """Column generation at ``node`` for routes within ``budget``, stopped once its
+        bound shows more than ``target`` routes are needed."""
+
+    def integral_routes(self, outcome: Outcome) -> list[list[int]] | None:
+        """The master's solution as routes when integral, else None."""
+
+    def enumerate_node(self, node: Node, outcome: Outcome, budget: float, target: int, *,
+                       shortest: bool) -> tuple[Outcome, Settled | None]:
+        """Answer ``node`` by route enumeration when its LP gap allows: the (re-solved)
+        outcome and, when answered, the node's fewest routes (those of least makespan
+        with ``shortest``)."""
+
+    def branching_arc(self, node: Node, outcome: Outcome, target: int) -> tuple[int, int] | None:
+        """The arc to branch on, or None when there is none."""
+
+    def integer_master(self, budget: float) -> list[list[int]] | None:
+        """A covering by the fewest pooled columns within ``budget``, or None."""
+
+
 class Decision:
     """The tree of one fewest-routes search (:meth:`milp.branchprice._Search.fewest_routes`): depth first
     from the root, the best routes found so far and the target they leave (one route
     fewer), the root's bound."""
 
-    def __init__(self, search: _Search, budget: float, incumbent: list[list[int]] | None,
+    def __init__(self, search: Search[Any], budget: float, incumbent: list[list[int]] | None,
                  target: int, *, first: bool, improve: Improve | None) -> None:
         self.search, self.budget, self.first, self.improve = search, budget, first, improve
         self.best, self.target = incumbent, target

@@ -23,7 +23,8 @@ from parcover.io import FileFormatError, load, read_instance, write_instance
 from parcover.problem import MethodInfo, Problem, Solution
 from parcover.result import Frontier, FrontierPoint, Result, Status
 from parcover.solve import METHODS, SolverError, available_methods, register_method, solve
-from parcover.verify import InvalidSolution, Verdict, verify
+from parcover.verify import InvalidSolution, Verdict
+from parcover.certify import verify  # the verifier, then re-proving the claims when asked
 
 #: Public names loaded on first use: drawing loads matplotlib, which a solve does not need.
 _LAZY = {"plot_routes": "parcover.plot", "save_routes_plot": "parcover.plot"}

@@ -13,27 +13,24 @@ Outcomes: ``certified`` (every such claim agrees with the proven answer), ``refu
 (one contradicts a proven optimum, or a claimed bound is above a solution the certifier
 found), ``undecided`` (the certifier did not prove within the time limit, and nothing it
 found contradicts the file).
+
+Certification sits above both the verifier and the solvers: :func:`verify` (which is
+``pc.verify``) runs the independent verifier :func:`parcover.verify.verify`, then, when
+asked, :func:`certify`, which solves.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass, field
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from typing import Any
 
 from parcover.instance import Instance
-from parcover.result import Status
+from parcover.result import Result, RoutesKind, Status
+from parcover.verify import Certificate, Verdict
+from parcover.verify import verify as check
 
-__all__ = ["Certificate", "certify", "certifier_for"]
-
-
-@dataclass(frozen=True)
-class Certificate:
-    """What the independent exact method said about the file's claims."""
-
-    outcome: str  # "certified", "refuted", "undecided" or "nothing to certify"
-    method: str | None
-    reasons: list[str] = field(default_factory=list)
+__all__ = ["Certificate", "certify", "certifier_for", "verify"]
 
 
 def certifier_for(instance: Instance, method: str | None, objective: str) -> str:
@@ -91,3 +88,50 @@ def certify(instance: Instance, fields: Mapping[str, Any], *, time_limit: float 
     return Certificate("undecided", method, [
         f"{method} did not prove within {time_limit:g} s (its bound {proven}, its value "
         f"{'-' if found is None else format(found, '.10g')})"])
+
+
+_certify = certify  # the function, which the parameter ``certify`` of :func:`verify` hides
+
+
+def verify(
+    instance: Instance,
+    solution: Result | Mapping[str, Any] | Sequence[Sequence[str]],
+    *,
+    routes_kind: RoutesKind | None = None,
+    deadline: float | None = None,
+    robots_limit: int | None = None,
+    certify: bool = False,
+    time_limit: float = 60.0,
+) -> Verdict:
+    """Check a solution against an instance and recompute its costs; optionally re-prove its claims.
+
+    Parameters
+    ----------
+    instance, solution, routes_kind, deadline, robots_limit
+        As for :func:`parcover.verify.verify`, which checks the solution.
+    certify
+        Also re-prove the file's ``optimal``/``infeasible`` status and its ``bound`` with
+        an independent exact method within ``time_limit`` seconds (:func:`certify`; the
+        outcome is ``Verdict.certificate``). A :class:`Result` is re-proved as its JSON
+        states it; a solution with a false claim, or given as bare routes, is not.
+
+    Returns
+    -------
+    Verdict
+        Costs, makespan, robots and the constraint excesses (see
+        :func:`parcover.verify.verify`), and the certificate when ``certify`` ran.
+
+    Raises
+    ------
+    InvalidSolution
+        If the routes are not a partition of the KPOIs into routes from the start
+        (every problem is listed).
+    InputError
+        If ``instance`` is not an :class:`Instance`.
+    """
+    if certify and isinstance(solution, Result):
+        solution = solution.to_dict()  # its claims, as a file would state them, to re-prove
+    verdict = check(instance, solution, routes_kind=routes_kind, deadline=deadline, robots_limit=robots_limit)
+    if not certify or not isinstance(solution, Mapping) or verdict.false_claims:
+        return verdict
+    return replace(verdict, certificate=_certify(instance, solution, time_limit=time_limit))

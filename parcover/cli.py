@@ -16,7 +16,7 @@ from typing import NoReturn
 from parcover import __version__
 from milp.deadline import Deadline
 from parcover import generate as gen
-from parcover.certify import Certificate
+from parcover.certify import Certificate, verify
 from parcover.errors import InputError
 from parcover.frontier import frontier
 from parcover.result import Result
@@ -24,7 +24,7 @@ from parcover.instance import Instance
 from parcover.io import FileFormatError, read_instance, read_json, write_instance, write_text_atomic
 from parcover.question import load as load_question
 from parcover.solve import available_methods, solve
-from parcover.verify import InvalidSolution, verify
+from parcover.verify import InvalidSolution
 
 __all__ = ["main", "run"]
 

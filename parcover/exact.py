@@ -44,6 +44,7 @@ from collections.abc import Callable
 from typing import Any
 
 from milp.deadline import Deadline, TimeLimit
+from milp.sizes import BRANCHCUT_MAX_KPOIS, BRANCHPRICE_MAX_KPOIS, SETPART_MAX_KPOIS
 from parcover.errors import InputError
 from parcover.instance import Instance
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
@@ -88,10 +89,6 @@ QUICK_CHECK_SECONDS = 0.02
 #: half of the time limit): measured on n = 17-20, ``branchprice`` proves almost every
 #: question in under 1.5 s where ``setpart`` takes 1-3 s, and fails on a few in 60 s.
 BRANCHPRICE_FIRST = 2.0
-#: :data:`milp.branchprice.MAX_KPOIS`, not imported: ``exact`` answers larger instances
-#: with ``compact`` alone, without loading ``branchprice`` or ``setpart`` (importing
-#: ``branchprice`` took 0.7 s of a 3 s limit at 3000 KPOIs, 0.4 s of it numba).
-BRANCHPRICE_MAX_KPOIS = 200
 #: For the least makespan with at most this many robots above set partitioning's range,
 #: ``exact`` races these methods when ``branchprice`` has not proved the answer within
 #: :data:`BRANCHPRICE_FIRST` seconds and two cores are free (:func:`_race_makespan`).
@@ -102,8 +99,8 @@ BRANCHPRICE_MAX_KPOIS = 200
 #: with 3 routes on random instances branch-and-price is 5-20x faster.
 RACE_ROUTES = 3
 RACE_MODELS = ("branchprice", "branchcut")
-#: :data:`milp.branchcut.MAX_KPOIS` (not imported, as for branch-and-price).
-RACE_MAX_KPOIS = 100
+#: ``exact`` races up to this many KPOIs: branch-and-cut's size limit.
+RACE_MAX_KPOIS = BRANCHCUT_MAX_KPOIS
 
 
 def exact(
@@ -127,7 +124,10 @@ def exact(
     clock = Deadline.of(time_limit)  # the imports below count against the limit
     if export_model:
         _export(instance, problem, export_model)
-    if instance.n > BRANCHPRICE_MAX_KPOIS:  # neither setpart nor branchprice is imported
+    # above branch-and-price's size limit (milp.sizes), compact alone, without loading
+    # branchprice or setpart (importing branchprice took 0.7 s of a 3 s limit at 3000
+    # KPOIs, 0.4 s of it numba)
+    if instance.n > BRANCHPRICE_MAX_KPOIS:
         log.info("exact: compact model (more than %d KPOIs)", BRANCHPRICE_MAX_KPOIS)
         return compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
     from milp import setpart as model
@@ -244,11 +244,9 @@ def _setpart(model: Any, instance: Instance, problem: Problem, clock: Deadline,
 def exact_models(n: int, objective: str) -> set[str]:
     """The methods ``exact`` may answer with on ``n`` KPOIs for ``objective``
     (``"makespan"`` or ``"robots"``; module docstring)."""
-    from milp import setpart as model
-
     if n <= SETPART_FIRST[objective]:
         return {"setpart", "bounds"}
-    if n <= model.MAX_KPOIS:
+    if n <= SETPART_MAX_KPOIS:
         return {"branchprice", "setpart"}
     return {"branchprice", "compact"} | ({"branchcut"} if objective == "makespan" else set())
 
@@ -463,7 +461,8 @@ def _solution(answer: Any) -> Solution:
 
 
 METHODS = (
-    MethodInfo("exact", exact, "proven optimum: setpart up to 16 KPOIs, branchprice then setpart to 20, branchprice above (default)",
+    MethodInfo("exact", exact, f"proven optimum: setpart up to {SETPART_FIRST['makespan']} KPOIs, branchprice then "
+               f"setpart to {SETPART_MAX_KPOIS}, branchprice above (default)",
                ("warm_start", "export_model")),
     MethodInfo("compact", compact, "proven optimum: compact arc-flow MILP in HiGHS", ("warm_start", "export_model")),
     MethodInfo("branchprice", branch_and_price,
@@ -471,6 +470,6 @@ METHODS = (
                ("warm_start",)),
     MethodInfo("branchcut", branch_and_cut,
                "proven least makespan: three-index branch-and-cut (few long routes)", ("warm_start",)),
-    MethodInfo("setpart", setpart, "proven optimum: Held-Karp routes + counting set partitions (n <= 20)"),
+    MethodInfo("setpart", setpart, f"proven optimum: Held-Karp routes + counting set partitions (n <= {SETPART_MAX_KPOIS})"),
     MethodInfo("cvxpy", cvxpy_model, "proven optimum: the compact model written in cvxpy (slow, for reading)"),
 )

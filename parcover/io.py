@@ -28,7 +28,7 @@ from typing import Any
 from parcover.errors import InputError
 from parcover.instance import Instance, InstanceError, MapInfo, Metric, _first_duplicate
 from parcover.memory import check_memory, file_bytes, format_bytes
-from parcover.question import Question
+from parcover.question_block import Question
 
 __all__ = [
     "FileFormatError",
@@ -155,7 +155,7 @@ def instance_from_dict(
     """An :class:`Instance` from the JSON object of docs/format.md section 2.
 
     Unknown keys are ignored (files may carry extensions); an optional ``question``
-    block is validated (:class:`parcover.question.Question`). ``base_dir`` is where a
+    block is validated (:class:`parcover.question_block.Question`). ``base_dir`` is where a
     relative ``map.image`` is resolved from, for drawings.
     """
     for key in _REQUIRED:
@@ -179,7 +179,7 @@ def instance_from_dict(
         metric=metric or data.get("metric", "euclidean"),
     )
     if data.get("question") is not None:
-        Question.from_dict(data["question"], instance)  # refuse a bad block now (parcover.question)
+        Question.from_dict(data["question"], instance)  # refuse a bad block now (parcover.question_block)
     return instance
 
 

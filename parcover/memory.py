@@ -18,12 +18,9 @@ from __future__ import annotations
 import os
 import re
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from parcover.errors import InputError
-
-if TYPE_CHECKING:
-    from parcover.instance import Instance
 
 __all__ = [
     "LIMIT_VARIABLE",
@@ -31,6 +28,7 @@ __all__ = [
     "Footprint",
     "instance_footprint",
     "footprint_of",
+    "BuiltInstance",
     "map_bytes",
     "file_bytes",
     "report_rows_bytes",
@@ -118,10 +116,24 @@ def instance_footprint(kpois: int, nodes: int | None = None, edges: int = 0) -> 
                      kept=8 * key * key + 4 * key * nodes + objects)
 
 
-def footprint_of(instance: Instance) -> Footprint:
+class BuiltInstance(Protocol):
+    """The sizes :func:`footprint_of` reads of an :class:`~parcover.instance.Instance`
+    (described here, not imported: the instance checks its memory with this module)."""
+
+    @property
+    def n(self) -> int: ...
+
+    @property
+    def nodes(self) -> tuple[str, ...]: ...
+
+    @property
+    def edges(self) -> tuple[tuple[str, str, float], ...] | None: ...
+
+
+def footprint_of(instance: BuiltInstance) -> Footprint:
     """:func:`instance_footprint` of an instance already built (its graph's sizes)."""
     edges = len(instance.edges) if instance.edges is not None else 0
-    return instance_footprint(instance.n, len(instance._nodes), edges)
+    return instance_footprint(instance.n, len(instance.nodes), edges)
 
 
 def map_bytes(height: int, width: int, bands: int) -> int:

@@ -20,10 +20,11 @@ grids, the Fig. 3 stars, seeded random Euclidean and graph instances, the bundle
 - ``alg2-makespan-METHOD`` (Alg. 2): its makespan is the least for that many tours.
 
 Honesty: every claim is a statement about an optimum ``opt`` that the reference
-brackets between its proven bound and its verified value. An instance refutes a
-claim only when that bracket does: a proven optimum or bound on the wrong side, or
-a verified exact solution better than the greedy's (a witness). When the bracket
-straddles the claimed value the instance is *undecided* and counted as such.
+brackets between its proven bound and its verified value (:mod:`parcover.compare`).
+An instance refutes a claim only when that bracket does: a proven optimum or bound
+on the wrong side, or a verified exact solution better than the greedy's (a witness).
+When the bracket straddles the claimed value the instance is *undecided* and counted
+as such.
 
 Counterexamples are shrunk by :func:`shrink` (fewest KPOIs first, then simplest
 coordinates), saved with :func:`parcover.io.write_instance` and drawn beside the
@@ -40,12 +41,12 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Literal
 
 from parcover import generate
+from parcover.compare import CheckStatus, Outcome, brief, compare_optimum, number
 from parcover.instance import Instance
 from parcover.question import Question
-from parcover.result import Result, Status
+from parcover.result import Result
 
 __all__ = [
     "Claim",
@@ -65,32 +66,9 @@ __all__ = [
     "render_report",
 ]
 
-CheckStatus = Literal["holds", "refuted", "undecided", "error"]
-Relation = Literal["eq", "le", "ge"]
 Progress = Callable[[str], None]
 
-_RTOL = 1e-6  # makespans compared with this relative slack (floating-point sums)
 _INSTANCES_DIR = Path(__file__).resolve().parent.parent / "instances"
-
-
-@dataclass(frozen=True)
-class Outcome:
-    """What one instance says about one claim.
-
-    Attributes
-    ----------
-    status
-        ``holds``, ``refuted``, ``undecided`` (the reference's bracket straddles the
-        claimed value) or ``error`` (a method raised).
-    numbers
-        The exact numbers behind the status, one line.
-    results
-        The results to draw: (greedy, reference), or (reference,) alone.
-    """
-
-    status: CheckStatus
-    numbers: str
-    results: tuple[Result, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -188,64 +166,6 @@ class Verdict:
         return f"holds on {self.holds} of {self.tried}{tail}"
 
 
-# -- the comparison every claim reduces to ------------------------------------------
-
-
-def compare_optimum(reference: Result, relation: Relation, claimed: float, what: str) -> Outcome:
-    """Decide ``opt RELATION claimed`` from the reference's bracket ``bound <= opt <= value``.
-
-    Parameters
-    ----------
-    reference
-        An exact result; its ``value`` (verified, so ``opt <= value``) and proven
-        ``bound`` (``opt >= bound``; ``opt = value`` when optimal).
-    relation
-        ``"eq"``, ``"le"`` (``opt <= claimed``) or ``"ge"`` (``opt >= claimed``; a
-        greedy is optimal exactly when the optimum is not below its value).
-    claimed
-        The claimed value.
-    what
-        Label of the claimed value in the numbers line, e.g. ``"paper: 3 paths, makespan 4"``.
-    """
-    value = reference.value if reference.has_routes and reference.value is not None else math.inf
-    if reference.status is Status.OPTIMAL:
-        bound = value
-    else:
-        bound = reference.bound if reference.bound is not None else -math.inf
-    tol = _RTOL * max(1.0, abs(claimed))
-    below = value < claimed - tol  # opt < claimed, witnessed
-    above = bound > claimed + tol  # opt > claimed, proven
-    if relation == "le":
-        status: CheckStatus = "holds" if value <= claimed + tol else "refuted" if above else "undecided"
-    elif relation == "ge":
-        status = "holds" if bound >= claimed - tol else "refuted" if below else "undecided"
-    else:
-        holds = value <= claimed + tol and bound >= claimed - tol
-        status = "holds" if holds else "refuted" if (below or above) else "undecided"
-    return Outcome(status, f"{what}; {_describe(reference)}", (reference,))
-
-
-def _describe(result: Result) -> str:
-    """``exact: 2 paths, makespan 4 (optimal)`` or with the bound when not proven."""
-    if not result.has_routes:
-        return f"{result.method}: no solution ({result.status.value})"
-    proof = "optimal" if result.status is Status.OPTIMAL else f"{result.status.value}, bound {_num(result.bound)}"
-    return f"{_brief(result)} ({proof})"
-
-
-def _brief(result: Result) -> str:
-    """``paper: 3 paths, makespan 25.1`` (a greedy's numbers, no proof claimed)."""
-    return f"{result.method}: {_count(result.robots, result.routes_kind[:-1])}, makespan {_num(result.makespan)}"
-
-
-def _count(count: int | None, noun: str) -> str:
-    return f"{count} {noun}{'' if count == 1 else 's'}"
-
-
-def _num(x: float | None) -> str:
-    return "-" if x is None else f"{x:.6g}"
-
-
 # -- claims -------------------------------------------------------------------------
 
 
@@ -309,7 +229,7 @@ def claims(
         def check(inst: Instance) -> Outcome:
             least = 2 * inst.c_max if routes == "tours" else inst.c_max
             ref = solver(inst, exact, routes, robots=inst.n)
-            return compare_optimum(ref, "eq", least, f"least makespan claimed {_num(least)} with k = n = {inst.n}")
+            return compare_optimum(ref, "eq", least, f"least makespan claimed {number(least)} with k = n = {inst.n}")
         return check
 
     def prop2(factor: float) -> Callable[[Instance], Outcome]:
@@ -336,7 +256,7 @@ def claims(
             deadline = None if factor is None else factor * inst.c_max
             mine = solver(inst, method, routes, deadline=deadline)
             ref = solver(inst, exact, routes, deadline=deadline)
-            out = compare_optimum(ref, "ge", mine.robots, _brief(mine))
+            out = compare_optimum(ref, "ge", mine.robots, brief(mine))
             return dataclasses.replace(out, results=(mine, ref))
         return check
 
@@ -345,7 +265,7 @@ def claims(
         def check(inst: Instance) -> Outcome:
             mine = solver(inst, method, "tours")
             assert mine.makespan is not None and mine.robots is not None
-            label = _brief(mine)
+            label = brief(mine)
             if objective == "robots":
                 ref = solver(inst, exact, "tours", deadline=mine.makespan)
                 out = compare_optimum(ref, "ge", mine.robots, label)
@@ -361,7 +281,7 @@ def claims(
             ref = solver(inst, exact, "tours", deadline=mine.makespan)
             claimed = math.ceil(inst.n / 2)
             out = compare_optimum(ref, "eq", claimed,
-                                  f"ceil(|V|/2) = {claimed} tours claimed at {method}'s makespan {_num(mine.makespan)}")
+                                  f"ceil(|V|/2) = {claimed} tours claimed at {method}'s makespan {number(mine.makespan)}")
             return dataclasses.replace(out, results=(mine, ref))
         return check
 
@@ -829,7 +749,7 @@ _WORST_POINTER = ("See [`worst.md`](worst.md) (`parcover worst`): the worst gree
 
 def _routes_text(result: Result) -> str:
     """``s-a-b (2); s-c (1)``: each route with its cost."""
-    return "; ".join(f"{'-'.join(r)} ({_num(c)})" for r, c in zip(result.routes, result.route_costs))
+    return "; ".join(f"{'-'.join(r)} ({number(c)})" for r, c in zip(result.routes, result.route_costs))
 
 
 def _relative(path: str, base: Path | None) -> str:

@@ -9,23 +9,26 @@ solution file makes (``route_costs``, ``makespan``, ``robots``, ``objective``,
 is a violation too (``Verdict.false_claims``). Claimed numbers must match to
 :data:`CLAIM_REL` relative (plus :data:`CLAIM_ABS`): result files hold full-precision
 floats, so only round-off is forgiven.
+
+The verifier depends on nothing that solves: re-proving a file's ``optimal``,
+``infeasible`` and ``bound`` claims with an exact method (``--certify``) sits above it,
+in :mod:`parcover.certify`, which fills :attr:`Verdict.certificate`.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from parcover.certify import Certificate
 from parcover.errors import InputError
 from parcover.instance import Instance
 from parcover.problem import meets_deadline
 from parcover.result import Result, RoutesKind
 
-__all__ = ["verify", "Verdict", "InvalidSolution", "route_costs"]
+__all__ = ["verify", "Verdict", "InvalidSolution", "Certificate", "route_costs"]
 
 _MAX_LISTED = 10
 #: A claimed number ``c`` matches a recomputed ``x`` when ``|c - x| <= CLAIM_REL * max(1, |x|)
@@ -40,6 +43,16 @@ class InvalidSolution(ValueError):
     def __init__(self, problems: list[str]) -> None:
         self.problems = problems
         super().__init__("; ".join(problems))
+
+
+@dataclass(frozen=True)
+class Certificate:
+    """What the independent exact method said about the file's claims
+    (:func:`parcover.certify.certify`)."""
+
+    outcome: str  # "certified", "refuted", "undecided" or "nothing to certify"
+    method: str | None
+    reasons: list[str] = field(default_factory=list)
 
 
 @dataclass(frozen=True)
@@ -106,8 +119,6 @@ def verify(
     routes_kind: RoutesKind | None = None,
     deadline: float | None = None,
     robots_limit: int | None = None,
-    certify: bool = False,
-    time_limit: float = 60.0,
 ) -> Verdict:
     """Check a solution against an instance and recompute its costs.
 
@@ -122,10 +133,6 @@ def verify(
         inferred (tours when every route returns to the start).
     deadline, robots_limit
         Constraints to check; default to the solution's own fields.
-    certify
-        Also re-prove the file's ``optimal``/``infeasible`` status and its ``bound`` with
-        an independent exact method within ``time_limit`` seconds
-        (:func:`parcover.certify.certify`; the outcome is ``Verdict.certificate``).
 
     Returns
     -------
@@ -133,8 +140,7 @@ def verify(
         Costs, makespan, robots and the constraint excesses.
 
         An ``infeasible`` or ``unknown`` answer without routes (and without a makespan
-        or robots) has nothing to recompute: 0 robots, ``makespan`` None; with
-        ``certify`` its ``infeasible`` claim is re-proved.
+        or robots) has nothing to recompute: 0 robots, ``makespan`` None.
 
     Raises
     ------
@@ -147,19 +153,12 @@ def verify(
     if not isinstance(instance, Instance):
         raise InputError(f"Expected an Instance, got {type(instance).__name__} {instance!r:.60}; "
                          "read a file with pc.load(path).")
-    if certify and isinstance(solution, Result):
-        solution = solution.to_dict()  # its claims, as a file would state them, to re-prove
     routes, fields = _routes_and_fields(solution)
     if answer_without_routes(routes, fields):
-        certificate = None
-        if certify:
-            from parcover.certify import certify as recheck
-
-            certificate = recheck(instance, fields, time_limit=time_limit)
         return Verdict(routes_kind=fields.get("routes_kind") or "paths", robots=0, makespan=None,
                        route_costs=[], total_cost=0.0, deadline=fields.get("deadline"),
                        robots_limit=fields.get("robots_limit"), deadline_excess=0.0, late_routes=[],
-                       robots_excess=0, certificate=certificate)
+                       robots_excess=0)
     kind = routes_kind or fields.get("routes_kind") or _infer_kind(routes, instance.start)
     if kind not in ("paths", "tours"):
         raise InvalidSolution([f"unknown routes_kind {kind!r}; expected 'paths' or 'tours'"])
@@ -176,11 +175,6 @@ def verify(
     makespan = max(costs)
     late = [] if deadline is None else [r + 1 for r, c in enumerate(costs) if not meets_deadline(c, deadline)]
     claims = false_claims(fields, costs, len(routes)) if isinstance(solution, Mapping) else []
-    certificate = None
-    if certify and isinstance(solution, Mapping) and not claims:
-        from parcover.certify import certify as recheck  # certify asks solve, which verifies
-
-        certificate = recheck(instance, fields, time_limit=time_limit)
     return Verdict(
         routes_kind=kind,
         robots=len(routes),
@@ -193,7 +187,6 @@ def verify(
         late_routes=late,
         robots_excess=max(0, len(routes) - robots_limit) if robots_limit is not None else 0,
         false_claims=tuple(claims),
-        certificate=certificate,
     )
 
 

@@ -113,7 +113,7 @@ def test_quick_section_on_tiny_grid(tmp_path, monkeypatch) -> None:
     assert len(section.targets) == 5
 
 
-def test_full_grid_covers_the_issue() -> None:
+def test_full_grid_covers_the_targets() -> None:
     cells = exact_scaling.grid(quick=False)
     assert {c["n"] for c in cells} == {10, 15, 20, 25, 30, 40, 50}
     for routes in ("paths", "tours"):  # the n = 30 target names every seed, paths and tours

@@ -1,7 +1,7 @@
 """``python -m benchmarks --quick``: the CI smoke run of every benchmark section.
 
 The sections' own logic is tested in ``tests/test_bench_*.py`` on tiny inputs; this runs
-the whole quick report once, as the benchmarks issue asks of CI.
+the whole quick report once, as CI runs it.
 """
 
 from __future__ import annotations

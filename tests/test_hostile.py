@@ -1,4 +1,4 @@
-"""Hostile input (issue 14): every user mistake is one line and exit status 2 on the
+"""Hostile input: every user mistake is one line and exit status 2 on the
 command line, an InputError in the API; never a traceback, never a silent answer.
 
 Broken instance files are in ``tests/data/bad`` and read in ``test_io.py``; this module

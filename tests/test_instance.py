@@ -172,7 +172,7 @@ def test_from_networkx_refuses_a_missing_node():
 
 
 def test_large_graph_loads_in_seconds():
-    # the foundation issue: 10,000 nodes, 50,000 edges, 500 KPOIs "must load in seconds"
+    # a large map: 10,000 nodes, 50,000 edges, 500 KPOIs must load in seconds
     rng = np.random.default_rng(1)
     nodes = 10_000
     tree = [(str(i), str(int(rng.integers(i))), 1.0 + float(rng.random())) for i in range(1, nodes)]

@@ -78,7 +78,7 @@ def test_tsplib_rounding_on_request():
         ("bad_coordinate.tsp", "Points must be numbers"),  # a coordinate reads 'zero'
         ("single_node.tsp", "at least 2 nodes"),  # a start and no KPOI
         ("missing.json", "no such file"),  # not there at all
-        # hostile numbers (issue 14): each must be refused, not overflow or underflow into an answer
+        # hostile numbers: each must be refused, not overflow or underflow into an answer
         ("huge_integer_weight.json", "weight too large for a float"),  # 400 digits: no float holds it
         ("overflowing_coordinates.json", "Distances overflow"),  # +-1e308 apart: the distance is inf
         ("huge_coordinates.json", "are too large"),  # 1e200: finite, but squared route costs overflow

@@ -1,4 +1,4 @@
-"""Memory bounded everywhere (issue 30, item 3): every command estimates what its input
+"""Memory bounded everywhere: every command estimates what its input
 will allocate and refuses it, before allocating, with one line and exit status 2 when
 that exceeds the memory available or PARCOVER_MEMORY_LIMIT.
 
@@ -150,7 +150,7 @@ def test_a_huge_image_is_refused_from_its_header(tmp_path):
 
 
 def test_a_decompression_bomb_is_refused(tmp_path):
-    # the issue's 30000 x 30000 white image, in 100 bytes: matplotlib decoded it whatever its size
+    # a 30000 x 30000 white image, in 100 bytes: matplotlib decoded it whatever its size
     image = tmp_path / "bomb.png"
     _png_header(image, 30000, 30000)
     _refused_in_subprocess(["generate", "map", "--image", str(image), "--metres-per-pixel", "0.05", "--kpois", "5"],

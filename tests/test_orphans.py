@@ -1,4 +1,4 @@
-"""No orphans (issue 30, item 4): a killed ``parcover report`` (any signal, SIGKILL
+"""No orphans: a killed ``parcover report`` (any signal, SIGKILL
 included) leaves no pool worker behind, nor does one that ends or fails, and a child
 that calls :func:`milp.orphans.exit_with_parent` ends with its parent."""
 

@@ -1,4 +1,4 @@
-"""The time limit holds: one deadline shared by every phase (issue 14, "Time limits").
+"""The time limit holds: one deadline shared by every phase.
 
 The CLI tests run ``parcover solve --time-limit 2`` in a subprocess on random instances
 and compare its wall time with ``2 * 1.1`` plus the start-up of ``parcover --help``

@@ -1,4 +1,4 @@
-"""The verifier refuses every false claim of a solution file (issue 14, docs/format.md section 4),
+"""The verifier refuses every false claim of a solution file (docs/format.md section 4),
 and ``--certify`` re-proves the status and bound with an independent exact method."""
 
 from __future__ import annotations
@@ -48,7 +48,8 @@ def test_genuine_files_are_valid(capsys, files):
         assert code == 0 and out.startswith("valid:"), out
 
 
-# One tampered claim per case (the issue's list); each must be refused with its reason.
+# One tampered claim per case (makespan, route costs, robots, status, bound, gap, objective, robot
+# limit); each must be refused with its reason.
 TAMPERED = [
     ("makespan", lambda d: d.update(makespan=50.0), "makespan claims 50"),
     ("route_costs", lambda d: d.update(route_costs=[1.0] * len(d["routes"])), "route_costs are false"),

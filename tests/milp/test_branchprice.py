@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 
 from milp import branchprice, colgen, setpart, tree
 from milp import ngroute
-from milp.ngroute import Pricing
+from milp.ngroute import MAX_CUTS, Pricing
 from milp.routes import least_makespan
 from milp_helpers import TOL, check_solution, euclidean, graph_metric
 
@@ -287,7 +287,7 @@ def test_pricing_with_cuts_is_the_elementary_optimum(seed):
     prize = np.concatenate(([0.0], rng.uniform(0.0, 1.0, m)))
     triples = [(1, 2, 3), (2, 4, 6)]
     cuts, mems = cut_masks(m, triples, [set(range(1, m + 1))] * 2)
-    penalties = np.zeros(64)
+    penalties = np.zeros(MAX_CUTS)
     penalties[:2] = rng.uniform(0.0, 0.8, 2)
     budget = 2.0 * D[0, 1:].max()
     allowed, can_end = open_arcs(m)

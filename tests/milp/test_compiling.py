@@ -1,4 +1,4 @@
-"""Compiled once (issue 30, item 5): numba's cache lives in a folder the install can
+"""Compiled once: numba's cache lives in a folder the install can
 write (a fallback when it cannot), and the first compile says so on stderr, once."""
 
 from __future__ import annotations
