@@ -142,3 +142,19 @@ def test_stage_map_instance_round_trips_and_solves(tmp_path):
     result = pc.solve(back, method="trivial")
     assert result.robots == 8
     assert result.makespan == pytest.approx(back.c_max)
+
+
+def test_walls_inside_free_space_inside_walls_are_traced_as_shells_and_holes():
+    # A 12x12 room (the image border is wall) holding a wall block (rows and columns
+    # 2..9), in it a free island (4..7), in that a wall pillar (5..6): two pieces of
+    # free space, the room with the block as its hole and the island with the pillar.
+    image = np.full((12, 12), 255)
+    image[2:10, 2:10] = 0
+    image[4:8, 4:8] = 255
+    image[5:7, 5:7] = 0
+    space = free_space(image, 1.0, tolerance=0.0)
+    room, island = sorted(space.polygon.geoms, key=lambda p: -p.area)
+    assert (len(room.interiors), len(island.interiors)) == (1, 1)
+    # pixel (row r, column c) has its centre at (c + 0.5, 11.5 - r)
+    assert room.contains(shapely.Point(0.5, 11.5)) and not room.contains(shapely.Point(3.5, 8.5))
+    assert island.contains(shapely.Point(4.5, 7.5)) and not island.contains(shapely.Point(5.5, 6.5))
