@@ -250,6 +250,43 @@ def _check_position(space: FreeSpace, piece: Polygon | None, xy: Sequence[float]
         raise MapError(f"The {what} at {where} cannot be reached from the start.")
 
 
+def _free_pixels_inside(space: FreeSpace, piece: Polygon) -> tuple[np.ndarray, np.ndarray]:
+    """Rows and columns of the free pixels whose centres lie inside ``piece``, in row-major order.
+
+    Only the pixels within two of the piece's boundary are tested one by one
+    (``shapely.contains_xy``). The others form 4-connected areas that the boundary
+    does not cross (it passes no closer than a pixel to their centres), so one pixel
+    decides for each area.
+    """
+    (sx, sy), (ox, oy) = space.scale, space.origin
+    h, w = space.mask.shape
+    # Boundary points at most a pixel apart on each axis: every boundary point lies
+    # within half a pixel of one, and every pixel centre within a pixel of it within
+    # two pixels of that one's.
+    samples = shapely.get_coordinates(shapely.segmentize(piece.boundary, min(sx, sy)))
+    rows = np.clip(np.floor(h - (samples[:, 1] - oy) / sy).astype(int), 0, h - 1)
+    cols = np.clip(np.floor((samples[:, 0] - ox) / sx).astype(int), 0, w - 1)
+    top, left = rows.min(), cols.min()  # the piece lies in the boundary's bounding box
+    near = np.zeros((rows.max() - top + 1, cols.max() - left + 1), dtype=bool)
+    near[rows - top, cols - left] = True
+    near = ndimage.maximum_filter(near, size=5)
+    free = space.mask[top : top + near.shape[0], left : left + near.shape[1]]
+    inside = np.zeros_like(free)
+    rows, cols = np.nonzero(free & near)
+    xy = space.pixel_centres(rows + top, cols + left)
+    inside[rows, cols] = shapely.contains_xy(piece, xy[:, 0], xy[:, 1])
+    areas, count = ndimage.label(free & ~near)
+    one_pixel = np.empty(count + 1, dtype=np.intp)  # of each area (whichever write lands last)
+    one_pixel[areas.ravel()] = np.arange(areas.size)
+    rows, cols = np.divmod(one_pixel[1:], free.shape[1])
+    xy = space.pixel_centres(rows + top, cols + left)
+    area_inside = np.zeros(count + 1, dtype=bool)
+    area_inside[1:] = shapely.contains_xy(piece, xy[:, 0], xy[:, 1])
+    inside |= area_inside[areas]
+    rows, cols = np.nonzero(inside)
+    return rows + top, cols + left
+
+
 def sample_kpois(space: FreeSpace, n: int, start: XY, *, seed: int = 0) -> list[XY]:
     """``n`` distinct random pixel centres in the free space reachable from ``start``.
 
@@ -261,14 +298,16 @@ def sample_kpois(space: FreeSpace, n: int, start: XY, *, seed: int = 0) -> list[
     piece = space.piece_containing(start)
     if piece is None:
         raise MapError(f"The start at ({start[0]:g}, {start[1]:g}) is in a wall.")
-    rows, cols = np.nonzero(space.mask)
-    xy = space.pixel_centres(rows, cols)
-    xy = xy[shapely.contains_xy(piece, xy[:, 0], xy[:, 1]) & np.any(xy != start, axis=1)]
-    if len(xy) < n:
-        raise MapError(f"Only {len(xy)} free pixels are reachable from the start; asked for {n} KPOIs.")
+    rows, cols = _free_pixels_inside(space, piece)
+    row, col = space.to_pixel(start)
+    if (space.pixel_centres(np.array([row]), np.array([col])) == start).all():
+        keep = (rows != row) | (cols != col)
+        rows, cols = rows[keep], cols[keep]
+    if len(rows) < n:
+        raise MapError(f"Only {len(rows)} free pixels are reachable from the start; asked for {n} KPOIs.")
     rng = np.random.default_rng(seed)
-    chosen = rng.choice(len(xy), size=n, replace=False)
-    return [(float(x), float(y)) for x, y in xy[chosen]]
+    chosen = rng.choice(len(rows), size=n, replace=False)
+    return [(float(x), float(y)) for x, y in space.pixel_centres(rows[chosen], cols[chosen])]
 
 
 def _random_start(space: FreeSpace, seed: int) -> XY:
@@ -276,13 +315,12 @@ def _random_start(space: FreeSpace, seed: int) -> XY:
     if not space.polygon.geoms:
         raise MapError("The map has no free space.")
     largest = max(space.polygon.geoms, key=lambda p: p.area)
-    rows, cols = np.nonzero(space.mask)
-    xy = space.pixel_centres(rows, cols)
-    xy = xy[shapely.contains_xy(largest, xy[:, 0], xy[:, 1])]
-    if not len(xy):  # a free area of a pixel or two, whose traced outline holds no pixel centre
+    rows, cols = _free_pixels_inside(space, largest)
+    if not len(rows):  # a free area of a pixel or two, whose traced outline holds no pixel centre
         raise MapError("The map's free space is too small to stand in: no free pixel lies inside its traced outline.")
     rng = np.random.default_rng([seed, 1])
-    x, y = xy[rng.integers(len(xy))]
+    i = rng.integers(len(rows))
+    (x, y), = space.pixel_centres(rows[i : i + 1], cols[i : i + 1])
     return float(x), float(y)
 
 

@@ -8,7 +8,7 @@ import pytest
 import shapely
 
 import parcover as pc
-from parcover.maps import MapError, distance_ratio, free_space, instance_from_map, read_free_mask
+from parcover.maps import MapError, _free_pixels_inside, distance_ratio, free_space, instance_from_map, read_free_mask
 
 DATA = Path(__file__).parent / "data"
 MAPS = Path(__file__).parent.parent / "instances" / "maps"
@@ -158,3 +158,14 @@ def test_walls_inside_free_space_inside_walls_are_traced_as_shells_and_holes():
     # pixel (row r, column c) has its centre at (c + 0.5, 11.5 - r)
     assert room.contains(shapely.Point(0.5, 11.5)) and not room.contains(shapely.Point(3.5, 8.5))
     assert island.contains(shapely.Point(4.5, 7.5)) and not island.contains(shapely.Point(5.5, 6.5))
+
+
+def test_free_pixels_inside_a_piece_are_those_whose_centres_it_contains():
+    # Only pixels near the outline are tested one by one; the rest by one pixel per
+    # area: the same pixels as testing every free pixel (anisotropic scale, inflated walls).
+    space = free_space(MAPS / "cave.png", (0.03, 0.04), robot_radius=0.1)
+    rows, cols = np.nonzero(space.mask)
+    xy = space.pixel_centres(rows, cols)
+    for piece in space.polygon.geoms:
+        expected = xy[shapely.contains_xy(piece, xy[:, 0], xy[:, 1])]
+        np.testing.assert_array_equal(space.pixel_centres(*_free_pixels_inside(space, piece)), expected)
