@@ -380,11 +380,11 @@ def visibility_edges(
     ok = np.ones(len(pairs_i), dtype=bool)
     for end, other in ((pairs_i, pairs_j), (pairs_j, pairs_i)):
         is_corner = end >= k
-        c = corners[np.where(is_corner, end - k, 0)]
-        d = allxy[other] - c[:, :2]
+        c = corners[end[is_corner] - k]
+        d = allxy[other[is_corner]] - c[:, :2]
         s1 = _cross(d, c[:, 2:4] - c[:, :2])
         s2 = _cross(d, c[:, 4:6] - c[:, :2])
-        ok &= ~is_corner | (s1 * s2 >= -1e-12)
+        ok[is_corner] &= s1 * s2 >= -1e-12
     pairs_i, pairs_j = pairs_i[ok], pairs_j[ok]
     free = _segments_free(piece, allxy[pairs_i], allxy[pairs_j], eps)
     edges = list(zip(pairs_i[free].tolist(), pairs_j[free].tolist()))

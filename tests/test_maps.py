@@ -169,3 +169,18 @@ def test_free_pixels_inside_a_piece_are_those_whose_centres_it_contains():
     for piece in space.polygon.geoms:
         expected = xy[shapely.contains_xy(piece, xy[:, 0], xy[:, 1])]
         np.testing.assert_array_equal(space.pixel_centres(*_free_pixels_inside(space, piece)), expected)
+
+
+@pytest.mark.parametrize("graph", ["decomposition", "visibility"])
+def test_a_convex_room_without_corners_joins_every_pair_straight(graph, tmp_path):
+    # sal2.png's rooms have no doors: a start in one sees a convex piece of free space
+    # with no obstacle corner, and the visibility graph had no corner to index (IndexError).
+    from PIL import Image
+
+    room = tmp_path / "room.png"
+    Image.fromarray(np.full((10, 20), 255, dtype=np.uint8)).save(room)  # the image border is the wall
+    inst = instance_from_map(room, 1.0, kpois=5, seed=0, graph=graph)
+    assert not inst.virtual_nodes and len(inst.edges) == 6 * 5 // 2
+    for u, v in zip(*np.triu_indices(6, k=1)):
+        a, b = inst.ids[u], inst.ids[v]
+        assert inst.distance(a, b) == pytest.approx(math.dist(inst.coordinates[a], inst.coordinates[b]))
