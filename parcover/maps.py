@@ -260,9 +260,9 @@ def _free_pixels_inside(space: FreeSpace, piece: Polygon) -> tuple[np.ndarray, n
     """
     (sx, sy), (ox, oy) = space.scale, space.origin
     h, w = space.mask.shape
-    # Boundary points at most a pixel apart on each axis: every boundary point lies
-    # within half a pixel of one, and every pixel centre within a pixel of it within
-    # two pixels of that one's.
+    # Boundary points at most a pixel apart on each axis: every boundary point is within
+    # half a pixel of one, so a pixel whose centre is within a pixel of the boundary is
+    # within two rows and two columns of a sample's pixel.
     samples = shapely.get_coordinates(shapely.segmentize(piece.boundary, min(sx, sy)))
     rows = np.clip(np.floor(h - (samples[:, 1] - oy) / sy).astype(int), 0, h - 1)
     cols = np.clip(np.floor((samples[:, 0] - ox) / sx).astype(int), 0, w - 1)
@@ -300,7 +300,7 @@ def sample_kpois(space: FreeSpace, n: int, start: XY, *, seed: int = 0) -> list[
         raise MapError(f"The start at ({start[0]:g}, {start[1]:g}) is in a wall.")
     rows, cols = _free_pixels_inside(space, piece)
     row, col = space.to_pixel(start)
-    if (space.pixel_centres(np.array([row]), np.array([col])) == start).all():
+    if (space.pixel_centres(np.array([row]), np.array([col])) == start).all():  # the start's own pixel
         keep = (rows != row) | (cols != col)
         rows, cols = rows[keep], cols[keep]
     if len(rows) < n:
@@ -320,7 +320,7 @@ def _random_start(space: FreeSpace, seed: int) -> XY:
         raise MapError("The map's free space is too small to stand in: no free pixel lies inside its traced outline.")
     rng = np.random.default_rng([seed, 1])
     i = rng.integers(len(rows))
-    (x, y), = space.pixel_centres(rows[i : i + 1], cols[i : i + 1])
+    x, y = space.pixel_centres(rows[i : i + 1], cols[i : i + 1])[0]
     return float(x), float(y)
 
 
