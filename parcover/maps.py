@@ -30,7 +30,7 @@ from typing import Literal, Sequence
 import numpy as np
 import shapely
 from scipy import ndimage
-from shapely.geometry import LineString, MultiPolygon, Point, Polygon
+from shapely.geometry import LinearRing, LineString, MultiPolygon, Point, Polygon
 from shapely.geometry.polygon import orient
 from shapely.ops import polygonize, unary_union
 
@@ -211,14 +211,30 @@ def free_space(
             ring = Polygon(xy)
             if ring.area > 0:
                 rings.append(ring)
-    # Contours never cross, so the even-odd rule recovers the free region.
-    region: Polygon | MultiPolygon = Polygon()
-    for ring in sorted(rings, key=lambda r: -r.area):
-        region = region.symmetric_difference(ring)
+    region = _even_odd_region(rings)
     region = shapely.make_valid(region.simplify(tolerance * min(sx, sy), preserve_topology=True))
     polys = [g for g in getattr(region, "geoms", [region]) if isinstance(g, Polygon) and g.area > 0]
     polygon = MultiPolygon([orient(p) for p in polys])
     return FreeSpace(mask=mask, polygon=polygon, scale=(sx, sy), origin=(ox, oy))
+
+
+def _even_odd_region(rings: list[Polygon]) -> MultiPolygon:
+    """The region inside an odd number of ``rings``, which neither cross nor touch.
+
+    A ring inside an even number of others (0, 2, ...) is a shell, and a ring inside
+    an odd number is a hole of the ring just around it: one spatial-index query
+    (prepared rings against a vertex of each ring) instead of an overlay per ring.
+    """
+    if not rings:
+        return MultiPolygon()
+    tree = shapely.STRtree(shapely.points([r.exterior.coords[0] for r in rings]))
+    outer, inner = tree.query(rings, predicate="contains")
+    depth = np.bincount(inner, minlength=len(rings))
+    holes: dict[int, list[LinearRing]] = {i: [] for i in np.flatnonzero(depth % 2 == 0).tolist()}
+    for i, j in zip(inner.tolist(), outer.tolist()):
+        if depth[i] % 2 == 1 and depth[j] == depth[i] - 1:
+            holes[j].append(rings[i].exterior)
+    return MultiPolygon([Polygon(rings[i].exterior, h) for i, h in holes.items()])
 
 
 def _check_position(space: FreeSpace, piece: Polygon | None, xy: Sequence[float], what: str) -> None:
@@ -234,6 +250,43 @@ def _check_position(space: FreeSpace, piece: Polygon | None, xy: Sequence[float]
         raise MapError(f"The {what} at {where} cannot be reached from the start.")
 
 
+def _free_pixels_inside(space: FreeSpace, piece: Polygon) -> tuple[np.ndarray, np.ndarray]:
+    """Rows and columns of the free pixels whose centres lie inside ``piece``, in row-major order.
+
+    Only the pixels within two of the piece's boundary are tested one by one
+    (``shapely.contains_xy``). The others form 4-connected areas that the boundary
+    does not cross (it passes no closer than a pixel to their centres), so one pixel
+    decides for each area.
+    """
+    (sx, sy), (ox, oy) = space.scale, space.origin
+    h, w = space.mask.shape
+    # Boundary points at most a pixel apart on each axis: every boundary point is within
+    # half a pixel of one, so a pixel whose centre is within a pixel of the boundary is
+    # within two rows and two columns of a sample's pixel.
+    samples = shapely.get_coordinates(shapely.segmentize(piece.boundary, min(sx, sy)))
+    rows = np.clip(np.floor(h - (samples[:, 1] - oy) / sy).astype(int), 0, h - 1)
+    cols = np.clip(np.floor((samples[:, 0] - ox) / sx).astype(int), 0, w - 1)
+    top, left = rows.min(), cols.min()  # the piece lies in the boundary's bounding box
+    near = np.zeros((rows.max() - top + 1, cols.max() - left + 1), dtype=bool)
+    near[rows - top, cols - left] = True
+    near = ndimage.maximum_filter(near, size=5)
+    free = space.mask[top : top + near.shape[0], left : left + near.shape[1]]
+    inside = np.zeros_like(free)
+    rows, cols = np.nonzero(free & near)
+    xy = space.pixel_centres(rows + top, cols + left)
+    inside[rows, cols] = shapely.contains_xy(piece, xy[:, 0], xy[:, 1])
+    areas, count = ndimage.label(free & ~near)
+    one_pixel = np.empty(count + 1, dtype=np.intp)  # of each area (whichever write lands last)
+    one_pixel[areas.ravel()] = np.arange(areas.size)
+    rows, cols = np.divmod(one_pixel[1:], free.shape[1])
+    xy = space.pixel_centres(rows + top, cols + left)
+    area_inside = np.zeros(count + 1, dtype=bool)
+    area_inside[1:] = shapely.contains_xy(piece, xy[:, 0], xy[:, 1])
+    inside |= area_inside[areas]
+    rows, cols = np.nonzero(inside)
+    return rows + top, cols + left
+
+
 def sample_kpois(space: FreeSpace, n: int, start: XY, *, seed: int = 0) -> list[XY]:
     """``n`` distinct random pixel centres in the free space reachable from ``start``.
 
@@ -245,14 +298,16 @@ def sample_kpois(space: FreeSpace, n: int, start: XY, *, seed: int = 0) -> list[
     piece = space.piece_containing(start)
     if piece is None:
         raise MapError(f"The start at ({start[0]:g}, {start[1]:g}) is in a wall.")
-    rows, cols = np.nonzero(space.mask)
-    xy = space.pixel_centres(rows, cols)
-    xy = xy[shapely.contains_xy(piece, xy[:, 0], xy[:, 1]) & np.any(xy != start, axis=1)]
-    if len(xy) < n:
-        raise MapError(f"Only {len(xy)} free pixels are reachable from the start; asked for {n} KPOIs.")
+    rows, cols = _free_pixels_inside(space, piece)
+    row, col = space.to_pixel(start)
+    if (space.pixel_centres(np.array([row]), np.array([col])) == start).all():  # the start's own pixel
+        keep = (rows != row) | (cols != col)
+        rows, cols = rows[keep], cols[keep]
+    if len(rows) < n:
+        raise MapError(f"Only {len(rows)} free pixels are reachable from the start; asked for {n} KPOIs.")
     rng = np.random.default_rng(seed)
-    chosen = rng.choice(len(xy), size=n, replace=False)
-    return [(float(x), float(y)) for x, y in xy[chosen]]
+    chosen = rng.choice(len(rows), size=n, replace=False)
+    return [(float(x), float(y)) for x, y in space.pixel_centres(rows[chosen], cols[chosen])]
 
 
 def _random_start(space: FreeSpace, seed: int) -> XY:
@@ -260,13 +315,12 @@ def _random_start(space: FreeSpace, seed: int) -> XY:
     if not space.polygon.geoms:
         raise MapError("The map has no free space.")
     largest = max(space.polygon.geoms, key=lambda p: p.area)
-    rows, cols = np.nonzero(space.mask)
-    xy = space.pixel_centres(rows, cols)
-    xy = xy[shapely.contains_xy(largest, xy[:, 0], xy[:, 1])]
-    if not len(xy):  # a free area of a pixel or two, whose traced outline holds no pixel centre
+    rows, cols = _free_pixels_inside(space, largest)
+    if not len(rows):  # a free area of a pixel or two, whose traced outline holds no pixel centre
         raise MapError("The map's free space is too small to stand in: no free pixel lies inside its traced outline.")
     rng = np.random.default_rng([seed, 1])
-    x, y = xy[rng.integers(len(xy))]
+    i = rng.integers(len(rows))
+    x, y = space.pixel_centres(rows[i : i + 1], cols[i : i + 1])[0]
     return float(x), float(y)
 
 
@@ -293,13 +347,22 @@ def _reflex_corners(piece: Polygon) -> np.ndarray:
 
 
 def _segments_free(piece: Polygon, a: np.ndarray, b: np.ndarray, eps: float) -> np.ndarray:
-    """Which straight segments ``a[i] -> b[i]`` lie in the free space (within ``eps``)."""
+    """Which straight segments ``a[i] -> b[i]`` lie in the free space (within ``eps``).
+
+    A segment in the free space has every point in it: points along each segment
+    (halves, quarters, eighths) are tested first, cheaply, and only the segments
+    that pass are tested whole.
+    """
     if len(a) == 0:
         return np.zeros(0, dtype=bool)
     grown = piece.buffer(eps)
     shapely.prepare(grown)
-    lines = shapely.linestrings(np.stack([a, b], axis=1))
-    return shapely.covers(grown, lines)
+    free = np.ones(len(a), dtype=bool)
+    for t in (0.5, 0.25, 0.75, 0.125, 0.375, 0.625, 0.875):
+        p = a[free] + t * (b[free] - a[free])
+        free[free] = shapely.intersects_xy(grown, p[:, 0], p[:, 1])
+    free[free] = shapely.covers(grown, shapely.linestrings(np.stack([a[free], b[free]], axis=1)))
+    return free
 
 
 def visibility_edges(
@@ -326,11 +389,11 @@ def visibility_edges(
     ok = np.ones(len(pairs_i), dtype=bool)
     for end, other in ((pairs_i, pairs_j), (pairs_j, pairs_i)):
         is_corner = end >= k
-        c = corners[np.where(is_corner, end - k, 0)]
-        d = allxy[other] - c[:, :2]
+        c = corners[end[is_corner] - k]
+        d = allxy[other[is_corner]] - c[:, :2]
         s1 = _cross(d, c[:, 2:4] - c[:, :2])
         s2 = _cross(d, c[:, 4:6] - c[:, :2])
-        ok &= ~is_corner | (s1 * s2 >= -1e-12)
+        ok[is_corner] &= s1 * s2 >= -1e-12
     pairs_i, pairs_j = pairs_i[ok], pairs_j[ok]
     free = _segments_free(piece, allxy[pairs_i], allxy[pairs_j], eps)
     edges = list(zip(pairs_i[free].tolist(), pairs_j[free].tolist()))

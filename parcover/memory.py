@@ -59,8 +59,9 @@ NODE_BYTES = 1024
 EDGE_BYTES = 320
 #: Parsed JSON or TSPLIB per byte of file text (numbers become floats in lists, names strings).
 FILE_BYTES_PER_BYTE = 10
-#: Per pixel of a map while free KPOI positions are sampled (the free pixels' indices and
-#: world coordinates; 57 measured on an all-white image).
+#: Per pixel of a map while free KPOI positions are sampled (the labelled areas away from the
+#: outline and the free pixels' indices; 38 measured on an all-white image, 57 when every free
+#: pixel's world coordinates were computed).
 MAP_BYTES_PER_PIXEL = 64
 #: Per pixel and colour band while a map is decoded (Pillow's bytes, matplotlib's
 #: float32, parcover's float64 copy; 13 measured).

@@ -80,8 +80,8 @@ def test_quick_path_on_tiny_sizes(tmp_path, monkeypatch):
 
 
 def test_maps_speed_quick_on_a_small_map(tmp_path, monkeypatch):
-    monkeypatch.setattr(maps_speed, "TARGET", ("simple_rooms.png", 0.05))
-    monkeypatch.setattr(maps_speed, "QUICK_KPOIS", 4)
+    monkeypatch.setattr(maps_speed, "QUICK", (("simple_rooms.png", 0.05),))
+    monkeypatch.setattr(maps_speed, "QUICK_KPOIS", (4,))
     section = maps_speed.run(config(tmp_path))
     frame = section.tables["maps_speed"].set_index("graph")
     assert list(frame.index) == ["decomposition", "visibility"]

@@ -8,7 +8,7 @@ import pytest
 import shapely
 
 import parcover as pc
-from parcover.maps import MapError, distance_ratio, free_space, instance_from_map, read_free_mask
+from parcover.maps import MapError, _free_pixels_inside, distance_ratio, free_space, instance_from_map, read_free_mask
 
 DATA = Path(__file__).parent / "data"
 MAPS = Path(__file__).parent.parent / "instances" / "maps"
@@ -142,3 +142,45 @@ def test_stage_map_instance_round_trips_and_solves(tmp_path):
     result = pc.solve(back, method="trivial")
     assert result.robots == 8
     assert result.makespan == pytest.approx(back.c_max)
+
+
+def test_walls_inside_free_space_inside_walls_are_traced_as_shells_and_holes():
+    # A 12x12 room (the image border is wall) holding a wall block (rows and columns
+    # 2..9), in it a free island (4..7), in that a wall pillar (5..6): two pieces of
+    # free space, the room with the block as its hole and the island with the pillar.
+    image = np.full((12, 12), 255)
+    image[2:10, 2:10] = 0
+    image[4:8, 4:8] = 255
+    image[5:7, 5:7] = 0
+    space = free_space(image, 1.0, tolerance=0.0)
+    room, island = sorted(space.polygon.geoms, key=lambda p: -p.area)
+    assert (len(room.interiors), len(island.interiors)) == (1, 1)
+    # pixel (row r, column c) has its centre at (c + 0.5, 11.5 - r)
+    assert room.contains(shapely.Point(0.5, 11.5)) and not room.contains(shapely.Point(3.5, 8.5))
+    assert island.contains(shapely.Point(4.5, 7.5)) and not island.contains(shapely.Point(5.5, 6.5))
+
+
+def test_free_pixels_inside_a_piece_are_those_whose_centres_it_contains():
+    # Only pixels near the outline are tested one by one; the rest by one pixel per
+    # area: the same pixels as testing every free pixel (anisotropic scale, inflated walls).
+    space = free_space(MAPS / "cave.png", (0.03, 0.04), robot_radius=0.1)
+    rows, cols = np.nonzero(space.mask)
+    xy = space.pixel_centres(rows, cols)
+    for piece in space.polygon.geoms:
+        expected = xy[shapely.contains_xy(piece, xy[:, 0], xy[:, 1])]
+        np.testing.assert_array_equal(space.pixel_centres(*_free_pixels_inside(space, piece)), expected)
+
+
+@pytest.mark.parametrize("graph", ["decomposition", "visibility"])
+def test_a_convex_room_without_corners_joins_every_pair_straight(graph, tmp_path):
+    # sal2.png's rooms have no doors: a start in one sees a convex piece of free space
+    # with no obstacle corner, and the visibility graph had no corner to index (IndexError).
+    from PIL import Image
+
+    room = tmp_path / "room.png"
+    Image.fromarray(np.full((10, 20), 255, dtype=np.uint8)).save(room)  # the image border is the wall
+    inst = instance_from_map(room, 1.0, kpois=5, seed=0, graph=graph)
+    assert not inst.virtual_nodes and len(inst.edges) == 6 * 5 // 2
+    for u, v in zip(*np.triu_indices(6, k=1)):
+        a, b = inst.ids[u], inst.ids[v]
+        assert inst.distance(a, b) == pytest.approx(math.dist(inst.coordinates[a], inst.coordinates[b]))
