@@ -68,6 +68,10 @@ MAP_BYTES_PER_PIXEL = 64
 MAP_BYTES_PER_BAND = 16
 #: Per pixel while a decoded map becomes a mask (grey mean, its temporary, the mask).
 MAP_BYTES_PER_GREY_PIXEL = 24
+#: A solver's working memory per entry of the distance matrix, beyond the instance: at
+#: 3000 KPOIs ``exact`` peaked at 790 MB (88 bytes an entry), ``best`` at 540 MB (60) and
+#: ``paper`` at 250 MB (28); the largest, rounded up, for every method.
+SOLVE_BYTES_PER_ENTRY = 96
 #: One row of a gap report (a dict of 25 columns, then its pandas copies).
 ROW_BYTES = 4096
 

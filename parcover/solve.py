@@ -22,6 +22,7 @@ from milp.deadline import Deadline, TimeLimit
 from parcover.bounds import lower_bound, robots_lower_bound
 from parcover.errors import InputError
 from parcover.instance import Instance, check_whole, finite_float, short_repr
+from parcover.memory import SOLVE_BYTES_PER_ENTRY, check_memory
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.result import Result, RoutesKind, Status, gap
 from parcover.verify import InvalidSolution, route_costs, verify
@@ -124,6 +125,7 @@ def solve(
         )
     problem = Problem(routes, robots, deadline)
     info = method_with_options(method)
+    check_memory(SOLVE_BYTES_PER_ENTRY * (instance.n + 1) ** 2, f"Solving {instance.n} KPOIs with {method}")
     unknown = sorted(set(options) - set(info.options))
     if unknown:
         raise InputError(f"Method {method!r} takes no option {unknown[0]!r}.")

@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from parcover import generate, memory
+from parcover import generate, memory, write_instance
 from parcover.cli import main
 from parcover.errors import InputError
 from parcover.maps import read_free_mask
@@ -246,3 +246,11 @@ def test_a_folder_of_instances_is_counted_as_it_is_read(monkeypatch, tmp_path):
         load_instances(tmp_path)
     monkeypatch.setenv(memory.LIMIT_VARIABLE, "10MB")
     assert len(load_instances(tmp_path)) == 5
+
+
+def test_a_solve_too_large_for_its_working_memory_is_refused(capsys, monkeypatch, tmp_path):
+    # 800 KPOIs: the instance (estimated 15 MB) fits under the 50 MB cap, the solver's
+    # working memory (96 bytes an entry: 62 MB) does not; refused before the method starts.
+    path = tmp_path / "r800.json"
+    write_instance(generate.random_points(800, 1), path)
+    _refused(capsys, monkeypatch, ["solve", str(path), "--method", "paper"], "Solving 800 KPOIs with paper needs about")
