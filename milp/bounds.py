@@ -26,6 +26,9 @@ HELD_KARP_KPOIS = (21, 200)
 HELD_KARP_STEPS, HELD_KARP_PATIENCE, HELD_KARP_START, HELD_KARP_AIM = 300, 10, 2.0, 1.02
 #: :func:`robots_lower_bound` tries at most this many route counts with it.
 HELD_KARP_ROBOT_STEPS = 3
+#: Seconds per distance-matrix entry of one Held-Karp bound (measured 2.3e-5 to 4.5e-5 s at
+#: 30-200 KPOIs on a 2-core EPYC), rounded up: :func:`held_karp_seconds`.
+HELD_KARP_SECONDS_PER_ENTRY = 5e-5
 
 
 def spanning_tree_length(D: np.ndarray) -> float:
@@ -121,9 +124,21 @@ def held_karp_makespan_bound(D: np.ndarray, k: int, *, tours: bool) -> float:
     return max(best, 0.0) / k
 
 
-def makespan_lower_bound(D: np.ndarray, k: int, *, tours: bool) -> float:
+def held_karp_seconds(D: np.ndarray, *, robots: bool) -> float:
+    """About how long the Held-Karp part of :func:`makespan_lower_bound` (one bound) or
+    :func:`robots_lower_bound` (up to :data:`HELD_KARP_ROBOT_STEPS`) takes on ``D``; 0
+    outside :data:`HELD_KARP_KPOIS`, and once a bound of ``D`` was computed (they are
+    remembered, and a solve asks for the same ones again)."""
+    low, high = HELD_KARP_KPOIS
+    if not low <= len(D) - 1 <= high or _matrix_key(D) in _HELD_KARP_MATRICES:
+        return 0.0
+    return HELD_KARP_SECONDS_PER_ENTRY * len(D) ** 2 * (HELD_KARP_ROBOT_STEPS if robots else 1)
+
+
+def makespan_lower_bound(D: np.ndarray, k: int, *, tours: bool, held_karp: bool = True) -> float:
     """``L`` of arcflow's (8): the largest of ``c_max`` (``2 c_max``), a tree bound and,
-    for :data:`HELD_KARP_KPOIS` KPOIs, :func:`held_karp_makespan_bound`.
+    for :data:`HELD_KARP_KPOIS` KPOIs, :func:`held_karp_makespan_bound` (unless
+    ``held_karp`` is False: a caller short of time).
 
     The routes of a solution all contain the start, so for paths their ``n`` arcs form
     a spanning tree of ``{0..n}``: total length >= MST, and with ``q <= k`` routes the
@@ -151,7 +166,7 @@ def makespan_lower_bound(D: np.ndarray, k: int, *, tours: bool) -> float:
     closing = np.cumsum(np.sort(D[0, 1:]))[: len(q)] if tours else np.zeros(len(q))
     bound = max(least_makespan(D, tours=tours), float(np.min((tree + closing) / q)))
     low, high = HELD_KARP_KPOIS
-    if low <= len(D) - 1 <= high:
+    if held_karp and low <= len(D) - 1 <= high:
         bound = max(bound, _held_karp(D, k, tours))
     return bound
 
@@ -160,7 +175,16 @@ def _held_karp(D: np.ndarray, k: int, tours: bool) -> float:
     """:func:`held_karp_makespan_bound`, less round-off, once per matrix and ``k`` (a solve
     asks for it several times)."""
     matrix = np.ascontiguousarray(D, dtype=np.float64).tobytes()
+    _HELD_KARP_MATRICES.add(hash(matrix))
     return _remembered_held_karp(matrix, len(D), k, tours) * (1 - 1e-12)
+
+
+#: Hashes of the matrices :func:`_held_karp` has bounded (:func:`held_karp_seconds`).
+_HELD_KARP_MATRICES: set[int] = set()
+
+
+def _matrix_key(D: np.ndarray) -> int:
+    return hash(np.ascontiguousarray(D, dtype=np.float64).tobytes())
 
 
 @functools.lru_cache(maxsize=16)
@@ -170,9 +194,10 @@ def _remembered_held_karp(matrix: bytes, size: int, k: int, tours: bool) -> floa
     return held_karp_makespan_bound(D, k, tours=tours)
 
 
-def robots_lower_bound(D: np.ndarray, deadline: float, *, tours: bool) -> int:
+def robots_lower_bound(D: np.ndarray, deadline: float, *, tours: bool, held_karp: bool = True) -> int:
     """``Q`` of arcflow's (1): the least route count the spanning-tree argument allows,
-    raised by the Held-Karp bound for :data:`HELD_KARP_KPOIS` KPOIs.
+    raised by the Held-Karp bound for :data:`HELD_KARP_KPOIS` KPOIs (unless ``held_karp``
+    is False).
 
     ``q`` routes within ``U`` have total length ``<= q U``; that total is at least the
     MST (paths), or the MST plus the ``q`` smallest ``d_i0`` (tours), see
@@ -205,7 +230,7 @@ def robots_lower_bound(D: np.ndarray, deadline: float, *, tours: bool) -> int:
         fits = within(tree + closing, q * deadline)
     fewest = int(q[np.argmax(fits)])
     low, high = HELD_KARP_KPOIS
-    if low <= len(D) - 1 <= high:
+    if held_karp and low <= len(D) - 1 <= high:
         for _ in range(HELD_KARP_ROBOT_STEPS):
             if fewest >= len(D) - 1 or within(_held_karp(D, fewest, tours), deadline):
                 break

@@ -225,7 +225,7 @@ def _meets_trivial_bound(instance: Instance, problem: Problem, clock: Deadline,
     routes = warm_start_routes(instance, problem, clock, seed, rounds=0)
     if not routes:
         return None
-    bound = lower_bound(instance, problem)
+    bound = lower_bound(instance, problem, seconds=clock.remaining())
     if not meets_deadline(max(route_costs(instance, routes, tours=problem.tours)), bound):
         return None
     return Solution(routes=routes, bound=bound, status=Status.OPTIMAL,
@@ -421,7 +421,7 @@ def warm_start_routes(
         return None
     budget = Deadline.of(time_limit).fraction(WARM_SHARE)
     rounds = WARM_ROUNDS[problem.objective] if rounds is None else rounds
-    target = lower_bound(instance, problem) if target is None else target
+    target = lower_bound(instance, problem, seconds=budget.seconds) if target is None else target
     log.info("warm start: best, %d rounds%s", rounds,
              "" if budget.seconds is None else f", at most {budget.seconds:.3g} s")
     solution = methods["best"].function(instance, problem, time_limit=budget, seed=seed, iterations=rounds,

@@ -150,7 +150,8 @@ def solve(
                  method, "no time limit" if seconds is None else f"{seconds:.3g} s for the method")
         solution = info.function(instance, _at_most_n_robots(instance, problem), time_limit=seconds, seed=seed,
                                  **options)
-    result = build_result(instance, problem, method, solution, time.perf_counter() - started)
+    result = build_result(instance, problem, method, solution, time.perf_counter() - started,
+                          time_left=clock.remaining())
     log.info("solve: %s", result.headline())
     return result
 
@@ -215,9 +216,11 @@ def _deadline(time_limit: TimeLimit) -> Deadline:
 
 
 def build_result(
-    instance: Instance, problem: Problem, method: str, solution: Solution, seconds: float
+    instance: Instance, problem: Problem, method: str, solution: Solution, seconds: float,
+    *, time_left: float | None = None,
 ) -> Result:
-    """Verify a method's :class:`Solution` and wrap it as a :class:`Result`."""
+    """Verify a method's :class:`Solution` and wrap it as a :class:`Result`; ``time_left``
+    (None: no limit) bounds the time spent on the trivial lower bound."""
     deadline = None if solution.drops_deadline else problem.effective_deadline(instance)
     common = dict(
         instance=instance.name,
@@ -249,7 +252,7 @@ def build_result(
         raise SolverError(f"Method {method!r} broke the question: {'; '.join(verdict.violations())}.")
 
     value = verdict.makespan if problem.objective == "makespan" else float(verdict.robots)
-    bound = _best_bound(instance, problem, solution, verdict.makespan)
+    bound = _best_bound(instance, problem, solution, verdict.makespan, time_left)
     if bound > value * (1 + _VALUE_RTOL) + _VALUE_RTOL:
         raise SolverError(f"Method {method!r} reports bound {bound} above its value {value}.")
     status = solution.status or (Status.OPTIMAL if value <= bound * (1 + _VALUE_RTOL) + _VALUE_RTOL else Status.FEASIBLE)
@@ -267,12 +270,14 @@ def build_result(
     )
 
 
-def _best_bound(instance: Instance, problem: Problem, solution: Solution, makespan: float) -> float:
-    """The larger of the method's proven bound and the trivial one."""
+def _best_bound(instance: Instance, problem: Problem, solution: Solution, makespan: float,
+                time_left: float | None) -> float:
+    """The larger of the method's proven bound and the trivial one (its Held-Karp part
+    only when ``time_left`` allows: :func:`parcover.bounds.lower_bound`)."""
     if solution.drops_deadline:
         trivial = float(robots_lower_bound(instance, makespan, tours=problem.tours))
     else:
-        trivial = lower_bound(instance, problem)
+        trivial = lower_bound(instance, problem, seconds=time_left)
     return trivial if solution.bound is None else max(trivial, solution.bound)
 
 

@@ -87,6 +87,7 @@ _CONSTRUCTION_SHARE = 0.025  # of the time limit, for each construction
 _CONSTRUCTIONS_SHARE = 0.5  # of the time limit: no construction starts after it
 _QUICK = "nn"  # the construction run when none answered in time and ours would not fit
 _INSERTION_SECONDS = 1.5e-6  # min_max_insertion per KPOI pair (1.3 s at 1000 KPOIs, measured)
+_BOUND_SHARE = 0.05  # of the time limit, at most, for the lower bound that may stop the search early
 _ROBOTS_SHARE = 0.4  # of the time limit, robots objective: the rest goes to fewer_robots
 _CHAIN = 3  # longest chain of KPOIs moved by or-opt / relocate
 _GRANULARITY = 20  # relocate tries slots next to this many nearest KPOIs
@@ -160,7 +161,7 @@ def best(
     elif iterations is None and until == "converged":
         patience_rounds = patience(instance.n)
         if target is None:
-            target = lower_bound(instance, problem)
+            target = lower_bound(instance, problem, seconds=_BOUND_SHARE * time_limit)
     stop = None if time_limit is None else started + time_limit
     if log.isEnabledFor(logging.INFO):
         search = _Search(instance, problem)

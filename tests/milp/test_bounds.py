@@ -96,3 +96,24 @@ def test_held_karp_joins_the_makespan_bound_at_30_kpois(tours, monkeypatch):
     if not tours:
         monkeypatch.setattr(bounds, "HELD_KARP_KPOIS", (0, -1))
         assert held_karp > 1.03 * bounds.makespan_lower_bound(D, 3, tours=tours)
+
+
+def test_a_short_time_skips_the_held_karp_part_until_it_is_remembered():
+    # At 120 KPOIs one Held-Karp bound takes most of a second: a caller with a short time
+    # left gets the spanning-tree bound at once; once computed, the bound is free.
+    import time
+
+    from parcover import generate
+    from parcover.bounds import lower_bound
+    from parcover.problem import Problem
+
+    instance = generate.random_points(120, 9)
+    problem = Problem("tours", robots=3)
+    began = time.perf_counter()
+    quick = lower_bound(instance, problem, seconds=0.0)
+    assert time.perf_counter() - began < 0.2
+    full = lower_bound(instance, problem)  # no limit: Held-Karp included
+    assert full >= quick
+    began = time.perf_counter()
+    assert lower_bound(instance, problem, seconds=0.0) == full  # remembered: free and full
+    assert time.perf_counter() - began < 0.2
