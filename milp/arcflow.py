@@ -391,7 +391,7 @@ def min_makespan(
         return _proven(D, merged.expand([]), tours, 0.0, began, "every KPOI is at the start")
     start = _best_makespan_start(merged, k, tours, warm_start, clock.fraction(HEURISTIC_SHARE))
     upper = makespan(merged.D, start, tours=tours)
-    L = makespan_lower_bound(merged.D, k, tours=tours)
+    L = makespan_lower_bound(merged.D, k, tours=tours, time_limit=clock.remaining())
     if upper <= L * (1 + BOUND_SLACK * 1e-3):
         return _proven(D, merged.expand(start), tours, L, began, "warm start meets the lower bound")
     arcs = int(np.count_nonzero(_kept(merged.D, tours=tours, U=upper)))

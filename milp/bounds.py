@@ -29,6 +29,8 @@ HELD_KARP_ROBOT_STEPS = 3
 #: Seconds per distance-matrix entry of one Held-Karp bound (measured 2.3e-5 to 4.5e-5 s at
 #: 30-200 KPOIs on a 2-core EPYC), rounded up: :func:`held_karp_seconds`.
 HELD_KARP_SECONDS_PER_ENTRY = 5e-5
+#: Most of a caller's time limit the Held-Karp part of a bound may take (expected).
+HELD_KARP_SHARE = 0.25
 
 
 def spanning_tree_length(D: np.ndarray) -> float:
@@ -135,10 +137,10 @@ def held_karp_seconds(D: np.ndarray, *, robots: bool) -> float:
     return HELD_KARP_SECONDS_PER_ENTRY * len(D) ** 2 * (HELD_KARP_ROBOT_STEPS if robots else 1)
 
 
-def makespan_lower_bound(D: np.ndarray, k: int, *, tours: bool, held_karp: bool = True) -> float:
+def makespan_lower_bound(D: np.ndarray, k: int, *, tours: bool, time_limit: float | None = None) -> float:
     """``L`` of arcflow's (8): the largest of ``c_max`` (``2 c_max``), a tree bound and,
-    for :data:`HELD_KARP_KPOIS` KPOIs, :func:`held_karp_makespan_bound` (unless
-    ``held_karp`` is False: a caller short of time).
+    for :data:`HELD_KARP_KPOIS` KPOIs, :func:`held_karp_makespan_bound` when it is expected
+    to take at most :data:`HELD_KARP_SHARE` of ``time_limit`` (None: always).
 
     The routes of a solution all contain the start, so for paths their ``n`` arcs form
     a spanning tree of ``{0..n}``: total length >= MST, and with ``q <= k`` routes the
@@ -166,9 +168,14 @@ def makespan_lower_bound(D: np.ndarray, k: int, *, tours: bool, held_karp: bool 
     closing = np.cumsum(np.sort(D[0, 1:]))[: len(q)] if tours else np.zeros(len(q))
     bound = max(least_makespan(D, tours=tours), float(np.min((tree + closing) / q)))
     low, high = HELD_KARP_KPOIS
-    if held_karp and low <= len(D) - 1 <= high:
+    if low <= len(D) - 1 <= high and _held_karp_fits(D, time_limit, robots=False):
         bound = max(bound, _held_karp(D, k, tours))
     return bound
+
+
+def _held_karp_fits(D: np.ndarray, time_limit: float | None, *, robots: bool) -> bool:
+    """Whether the Held-Karp part fits in :data:`HELD_KARP_SHARE` of ``time_limit``."""
+    return time_limit is None or held_karp_seconds(D, robots=robots) <= HELD_KARP_SHARE * time_limit
 
 
 def _held_karp(D: np.ndarray, k: int, tours: bool) -> float:
@@ -194,10 +201,10 @@ def _remembered_held_karp(matrix: bytes, size: int, k: int, tours: bool) -> floa
     return held_karp_makespan_bound(D, k, tours=tours)
 
 
-def robots_lower_bound(D: np.ndarray, deadline: float, *, tours: bool, held_karp: bool = True) -> int:
+def robots_lower_bound(D: np.ndarray, deadline: float, *, tours: bool, time_limit: float | None = None) -> int:
     """``Q`` of arcflow's (1): the least route count the spanning-tree argument allows,
-    raised by the Held-Karp bound for :data:`HELD_KARP_KPOIS` KPOIs (unless ``held_karp``
-    is False).
+    raised by the Held-Karp bound for :data:`HELD_KARP_KPOIS` KPOIs when it fits in
+    ``time_limit`` (as :func:`makespan_lower_bound`).
 
     ``q`` routes within ``U`` have total length ``<= q U``; that total is at least the
     MST (paths), or the MST plus the ``q`` smallest ``d_i0`` (tours), see
@@ -230,7 +237,7 @@ def robots_lower_bound(D: np.ndarray, deadline: float, *, tours: bool, held_karp
         fits = within(tree + closing, q * deadline)
     fewest = int(q[np.argmax(fits)])
     low, high = HELD_KARP_KPOIS
-    if held_karp and low <= len(D) - 1 <= high:
+    if low <= len(D) - 1 <= high and _held_karp_fits(D, time_limit, robots=True):
         for _ in range(HELD_KARP_ROBOT_STEPS):
             if fewest >= len(D) - 1 or within(_held_karp(D, fewest, tours), deadline):
                 break

@@ -328,7 +328,7 @@ def min_makespan(
     if routes is None:
         routes = split_min_makespan(M, nearest_neighbour_order(M), k, tours=tours)
     value = makespan(M, routes, tours=tours)
-    lower = makespan_lower_bound(M, k, tours=tours)
+    lower = makespan_lower_bound(M, k, tours=tours, time_limit=time_limit)
     if value <= lower * (1 + 1e-9):
         return model_result("optimal", merged, D, routes, value, value, 0, began, "warm start meets the lower bound")
     stop_at = math.inf if time_limit is None else began + time_limit

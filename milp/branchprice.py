@@ -693,7 +693,7 @@ def min_robots(
     start = checked_start(merged, D, warm_start, tours=tours, deadline=deadline, k=None)
     if start is None:
         start = [[j] for j in range(1, merged.size + 1)]
-    trivial = tree_robots_bound(merged.D, deadline, tours=tours)
+    trivial = tree_robots_bound(merged.D, deadline, tours=tours, time_limit=time_limit)
     if len(start) <= trivial:
         return model_result("optimal", merged, D, start, len(start), len(start), 0, began,
                        "warm start meets the spanning-tree bound")
@@ -731,7 +731,7 @@ def min_makespan(
     if merged.size == 0:
         return model_result("optimal", merged, D, [], 0.0, 0.0, 0, began, "every KPOI at the start")
     stop_at = None if time_limit is None else began + time_limit
-    lower = max(least_makespan(D, tours=tours), tree_makespan_bound(merged.D, k, tours=tours))
+    lower = max(least_makespan(D, tours=tours), tree_makespan_bound(merged.D, k, tours=tours, time_limit=time_limit))
     routes = checked_start(merged, D, warm_start, tours=tours, deadline=None, k=k)
     if routes is None:
         routes = split_min_makespan(merged.D, nearest_neighbour_order(merged.D), k, tours=tours)

@@ -472,7 +472,7 @@ def robots_bound(
     if deadline < least_makespan(D, tours=tours) * (1 - 1e-9) - 1e-9:
         raise ValueError("deadline below the least makespan: no solution")
     merged = merge_zero_distances(D).D
-    trivial = float(tree_robots_bound(merged, deadline, tours=tours))
+    trivial = float(tree_robots_bound(merged, deadline, tours=tours, time_limit=clock.remaining()))
     info = BoundInfo(trivial, trivial)
     ready = _setup(merged, deadline, tours=tours)
     if ready is None:

@@ -20,26 +20,26 @@ from parcover.problem import Problem
 __all__ = ["makespan_lower_bound", "robots_lower_bound", "lower_bound"]
 
 
-def makespan_lower_bound(instance: Instance, problem: Problem, robots: int, *, held_karp: bool = True) -> float:
-    """The larger of the least makespan and the spanning-tree bound (and Held-Karp's, unless
-    ``held_karp`` is False), for at most ``robots`` routes of ``problem``'s kind."""
-    return bounds.makespan_lower_bound(instance.distances, robots, tours=problem.tours, held_karp=held_karp)
+def makespan_lower_bound(instance: Instance, problem: Problem, robots: int, *,
+                         seconds: float | None = None) -> float:
+    """The larger of the least makespan and the spanning-tree bound (and Held-Karp's when
+    it fits in ``seconds``: :func:`milp.bounds.makespan_lower_bound`), for at most
+    ``robots`` routes of ``problem``'s kind."""
+    return bounds.makespan_lower_bound(instance.distances, robots, tours=problem.tours, time_limit=seconds)
 
 
-def robots_lower_bound(instance: Instance, deadline: float, *, tours: bool, held_karp: bool = True) -> int:
+def robots_lower_bound(instance: Instance, deadline: float, *, tours: bool, seconds: float | None = None) -> int:
     """Fewest routes within ``deadline`` allowed by the spanning-tree bound (>= 1)."""
-    return bounds.robots_lower_bound(instance.distances, deadline, tours=tours, held_karp=held_karp)
+    return bounds.robots_lower_bound(instance.distances, deadline, tours=tours, time_limit=seconds)
 
 
 def lower_bound(instance: Instance, problem: Problem, *, seconds: float | None = None) -> float:
-    """The trivial proven bound on the problem's objective; the Held-Karp part only when
-    ``seconds`` (None: no limit) leaves room for it (:func:`milp.bounds.held_karp_seconds`):
-    at 200 KPOIs it takes about a second, more than a short time limit has left."""
-    robots = problem.objective == "robots"
-    held_karp = seconds is None or seconds >= bounds.held_karp_seconds(instance.distances, robots=robots)
-    if not robots:
+    """The trivial proven bound on the problem's objective within ``seconds`` (None: no
+    limit): the Held-Karp part only when expected to fit (about a second per bound at
+    200 KPOIs, more than a short time limit has left; remembered bounds are free)."""
+    if problem.objective == "makespan":
         assert problem.robots is not None
-        return makespan_lower_bound(instance, problem, problem.robots, held_karp=held_karp)
+        return makespan_lower_bound(instance, problem, problem.robots, seconds=seconds)
     deadline = problem.effective_deadline(instance)
     assert deadline is not None
-    return float(robots_lower_bound(instance, deadline, tours=problem.tours, held_karp=held_karp))
+    return float(robots_lower_bound(instance, deadline, tours=problem.tours, seconds=seconds))

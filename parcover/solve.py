@@ -275,7 +275,7 @@ def _best_bound(instance: Instance, problem: Problem, solution: Solution, makesp
     """The larger of the method's proven bound and the trivial one (its Held-Karp part
     only when ``time_left`` allows: :func:`parcover.bounds.lower_bound`)."""
     if solution.drops_deadline:
-        trivial = float(robots_lower_bound(instance, makespan, tours=problem.tours))
+        trivial = float(robots_lower_bound(instance, makespan, tours=problem.tours, seconds=time_left))
     else:
         trivial = lower_bound(instance, problem, seconds=time_left)
     return trivial if solution.bound is None else max(trivial, solution.bound)
