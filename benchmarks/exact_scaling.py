@@ -24,7 +24,7 @@ import pandas as pd
 from benchmarks import naive_models
 from benchmarks.common import Config, Section, euclidean_points, markdown_table, run_peer
 from milp import setpart
-from milp.routes import least_makespan, makespan, route_cost, within
+from milp.core.routes import least_makespan, makespan, route_cost, within
 from parcover import Instance, Problem
 from parcover import exact as parcover_exact
 
@@ -206,7 +206,7 @@ def run(config: Config) -> Section:
         "ng-routes, raced against branch-and-cut, `milp.branchcut`, for the least makespan with 2-3 "
         "robots), branch-and-price alone up to 20 KPOIs and the compact arc-flow model "
         "as `parcover solve --method branchprice` / `--method compact` run them (`milp.branchprice`; "
-        "`milp.arcflow`: pruning, column-generation bound, its own heuristics; both with "
+        "`milp.compact.arcflow`: pruning, column-generation bound, its own heuristics; both with "
         f"a warm start from `best`, {parcover_exact.WARM_ROUNDS['makespan']} rounds for the "
         f"makespan and {parcover_exact.WARM_ROUNDS['robots']} for robots within "
         f"{parcover_exact.WARM_SHARE:.0%} of the limit, for branch-and-price's fewest robots up to "

@@ -16,7 +16,7 @@ import pandas as pd
 
 from benchmarks.common import Config, Section, euclidean_points, markdown_table
 from benchmarks.exact_scaling import _cells_target, ratio, solve_cell
-from milp.routes import least_makespan
+from milp.core.routes import least_makespan
 from parcover import Instance
 
 GRID_SEEDS = (1, 2, 3)

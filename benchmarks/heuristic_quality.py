@@ -9,13 +9,13 @@ in a 100 x 100 square, :func:`benchmarks.common.euclidean_distances`), paths and
   (guided local search, global span cost, :mod:`benchmarks.peers.ortools_routing`)
   with the *same* time limit. Reported: each makespan, the ratios to OR-Tools' and
   a certified lower bound: the larger of the one parcover attaches (``Result.bound``)
-  and the column-generation bound (:func:`milp.colgen.makespan_lower_bound`, at most
+  and the column-generation bound (:func:`milp.branchprice.colgen.makespan_lower_bound`, at most
   :data:`BOUND_SECONDS`).
 - **Fewest robots within a deadline** of 1.2 times the least possible makespan
   (``c_max`` for paths, ``2 c_max`` for tours; a deadline of the exact targets,
   :mod:`benchmarks.exact_targets`): ``best``, ``paper`` and PyVRP (max distance, large fixed vehicle cost,
   :mod:`benchmarks.peers.pyvrp_fleet`) with the same time limit; the bound likewise
-  with :func:`milp.colgen.robots_lower_bound`.
+  with :func:`milp.branchprice.colgen.robots_lower_bound`.
 
 Every peer answer is checked by :func:`parcover.verify.verify` on the instance
 (KPOIs covered once, robot limit or deadline met, costs recomputed from the float
@@ -32,7 +32,7 @@ import numpy as np
 import pandas as pd
 
 from benchmarks.common import Config, Section, euclidean_points, markdown_table, run_peer
-from milp import colgen
+from milp.branchprice import colgen
 from parcover import Instance, solve
 from parcover.verify import InvalidSolution, verify
 
@@ -302,7 +302,7 @@ def section_markdown(
         "",
         "Every cell (`bound`: a certified lower bound, the largest of those parcover attaches to "
         "`best`'s and `paper`'s answers and, up to n = "
-        f"{BOUND_MAX_KPOIS}, the column-generation bound of `milp.colgen` (at most "
+        f"{BOUND_MAX_KPOIS}, the column-generation bound of `milp.branchprice.colgen` (at most "
         f"{BOUND_SECONDS:g} s); `best start`: the construction `best` started from, `best rounds`: its "
         "ruin-and-recreate rounds):",
         "",
@@ -315,7 +315,7 @@ def section_markdown(
         "itself every route is pinned to the farthest KPOI's distance, 20% more leaves room for the "
         "methods to differ. The question stays far from trivial: the answers found range from "
         f"{int(fleets['best'].min())} to {int(fleets['best'].max())} robots (`best`), between "
-        "the certified lower bound (`bound`, as above: `milp.colgen.robots_lower_bound`) and one "
+        "the certified lower bound (`bound`, as above: `milp.branchprice.colgen.robots_lower_bound`) and one "
         "robot per KPOI.",
         "",
         _availability(fleets["pyvrp"], fleets["pyvrp answer"], "PyVRP"),

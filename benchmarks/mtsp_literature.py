@@ -13,7 +13,7 @@ Breaban and Raschip, ICTAI 2015). Each cell gets 10 minutes:
 - our certified lower bound: the largest of that bound, ``2 c_max``, the spanning-tree
   and Held-Karp bounds (:func:`milp.bounds.makespan_lower_bound`) and, when the cell is
   not proven yet,
-  the column-generation bound over q-routes (:func:`milp.colgen.makespan_bound`, at most
+  the column-generation bound over q-routes (:func:`milp.branchprice.colgen.makespan_bound`, at most
   :data:`BOUND_SECONDS`), which stays cheap where branch-and-price's pricing of long
   routes (m = 2, 3) does not finish;
 - proven optimal when the value is within 1e-6 relative of the bound;
@@ -31,7 +31,8 @@ import pandas as pd
 
 import parcover
 from benchmarks.common import ROOT, Config, Section, markdown_table
-from milp import bounds, colgen
+from milp import bounds
+from milp.branchprice import colgen
 from parcover.io import read_instance
 
 INSTANCES = ("eil51", "berlin52", "eil76", "rat99")
@@ -138,7 +139,7 @@ def run(config: Config) -> Section:
         "certified lower bound, the largest of `2 c_max`, the `tree bound` (the spanning-tree and "
         "Held-Karp bounds of `milp.bounds.makespan_lower_bound`), the exact "
         "method's bound and, for a cell not yet proven, the column-generation bound "
-        "(`milp.colgen`: set covering over q-routes with 2-cycle elimination, Farley's bound, "
+        "(`milp.branchprice.colgen`: set covering over q-routes with 2-cycle elimination, Farley's bound, "
         f"bisection on the makespan; at most {bound_s:g} s). `proven`: value within 1e-6 "
         "relative of the bound. `cplex_lb` / `cplex_ub`: Necula's published CPLEX bounds (runs "
         "of up to 168 hours); `best_known`: best verified value in `instances/mtsp/` (LKH-3 and "

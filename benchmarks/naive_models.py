@@ -1,4 +1,4 @@
-r"""Two MILP models a user would write first, in HiGHS: the peers of :mod:`milp.arcflow`.
+r"""Two MILP models a user would write first, in HiGHS: the peers of :mod:`milp.compact.arcflow`.
 
 These are benchmark baselines, not parcover methods: no merging of coincident KPOIs, no
 arc pruning, no warm start, no bound beyond what each model needs to be correct. Both
@@ -77,9 +77,9 @@ from math import ceil
 import numpy as np
 from scipy import sparse
 
-from milp.highs import BOUND_SLACK, make_lp, solve_lp
-from milp.result import MilpResult, relative_gap
-from milp.routes import check_distance_matrix, makespan, route_cost
+from milp.core.highs import BOUND_SLACK, make_lp, solve_lp
+from milp.core.result import MilpResult, relative_gap
+from milp.core.routes import check_distance_matrix, makespan, route_cost
 
 __all__ = [
     "arcflow_min_makespan",
@@ -91,7 +91,7 @@ __all__ = [
 
 
 def check_positive(D: np.ndarray) -> np.ndarray:
-    """``D`` checked (:func:`milp.routes.check_distance_matrix`) with every distance between
+    """``D`` checked (:func:`milp.core.routes.check_distance_matrix`) with every distance between
     two different KPOIs positive, which both models' subtour elimination needs.
 
     Raises

@@ -1,7 +1,7 @@
 """Spanning-tree and Held-Karp lower bounds on the makespan, and on the number of routes.
 
-Cheap bounds every exact model starts from: :mod:`milp.arcflow` uses them as ``L`` of its
-constraint (8) and ``Q`` of (1), :mod:`milp.colgen` bisects upwards from them, and
+Cheap bounds every exact model starts from: :mod:`milp.compact.arcflow` uses them as ``L`` of its
+constraint (8) and ``Q`` of (1), :mod:`milp.branchprice.colgen` bisects upwards from them, and
 :mod:`parcover.bounds` reports them beside every method's answer.
 """
 
@@ -11,7 +11,7 @@ import functools
 
 import numpy as np
 
-from milp.routes import least_makespan, within
+from milp.core.routes import least_makespan, within
 
 __all__ = ["spanning_tree_length", "held_karp_makespan_bound", "makespan_lower_bound", "robots_lower_bound"]
 

@@ -78,17 +78,17 @@ import networkx as nx
 import numpy as np
 
 from milp.bounds import makespan_lower_bound
-from milp.highs import BOUND_SLACK, new_highs
-from milp.merge import checked_start, merge_zero_distances, model_result
-from milp.result import MilpResult
-from milp.routes import check_distance_matrix, makespan
-from milp.sizes import BRANCHCUT_MAX_KPOIS
+from milp.core.highs import BOUND_SLACK, new_highs
+from milp.core.merge import checked_start, merge_zero_distances, model_result
+from milp.core.result import MilpResult
+from milp.core.routes import check_distance_matrix, makespan
+from milp.core.sizes import BRANCHCUT_MAX_KPOIS
 
 log = logging.getLogger(__name__)
 
 __all__ = ["min_makespan", "MAX_KPOIS", "ROOT_SHARE"]
 
-#: Largest instance accepted (:data:`milp.sizes.BRANCHCUT_MAX_KPOIS`, which says why).
+#: Largest instance accepted (:data:`milp.core.sizes.BRANCHCUT_MAX_KPOIS`, which says why).
 MAX_KPOIS = BRANCHCUT_MAX_KPOIS
 #: Share of the time limit the root's cutting-plane loop may use.
 ROOT_SHARE = 0.3
@@ -331,12 +331,12 @@ def min_makespan(
     lower = makespan_lower_bound(M, k, tours=tours, time_limit=time_limit)
     if value <= lower * (1 + 1e-9):
         return model_result("optimal", merged, D, routes, value, value, 0, began, "warm start meets the lower bound")
-    stop_at = math.inf if time_limit is None else began + time_limit
+    ends_at = math.inf if time_limit is None else began + time_limit
     model = _Model(M, min(k, merged.size), tours=tours, lower=lower, upper=value)
     h = model.h
-    root_until = began + ROOT_SHARE * (stop_at - began)
-    while time.perf_counter() < root_until:
-        _set_time(h, root_until)
+    root_ends_at = began + ROOT_SHARE * (ends_at - began)
+    while time.perf_counter() < root_ends_at:
+        _set_time(h, root_ends_at)
         h.run()
         if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
             break
@@ -347,13 +347,13 @@ def min_makespan(
     h.changeColsIntegrality(len(model.integer), model.integer,
                             np.full(len(model.integer), highspy.HighsVarType.kInteger))
     mips, nodes = 0, 0
-    while time.perf_counter() < stop_at:
+    while time.perf_counter() < ends_at:
         start = model.start(routes)
         if start is not None:
             solution = highspy.HighsSolution()
             solution.col_value = start
             h.setSolution(solution)
-        _set_time(h, stop_at)
+        _set_time(h, ends_at)
         h.run()
         mips += 1
         info = h.getInfo()
@@ -378,6 +378,6 @@ def min_makespan(
                    f"time limit ({mips} MIPs, {model.cuts} cuts)")
 
 
-def _set_time(h: highspy.Highs, until: float) -> None:
-    left = until - time.perf_counter()
+def _set_time(h: highspy.Highs, ends_at: float) -> None:
+    left = ends_at - time.perf_counter()
     h.setOptionValue("time_limit", float(max(left, 1e-3)) if math.isfinite(left) else _INF)

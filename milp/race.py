@@ -6,7 +6,7 @@ questions in seconds that the other does not prove in minutes (``milp/README.md`
 Each entrant runs in a fresh interpreter (``python -m milp.race``, the question pickled
 on its standard input, the answer on its standard output): unlike ``multiprocessing``
 this never imports the caller's main script again, nor inherits the HiGHS thread pool
-of the parent without its threads. An entrant ends with its parent (:mod:`milp.orphans`):
+of the parent without its threads. An entrant ends with its parent (:mod:`milp.core.orphans`):
 a killed solve leaves none running. Every entrant gets the same time limit; the race
 ends when one proves its answer (the others are stopped), when every entrant has
 answered, or when the time is up.
@@ -25,9 +25,9 @@ import tempfile
 import time
 from typing import Any
 
-from milp import progress
-from milp.orphans import exit_with_parent
-from milp.result import MilpResult
+from milp.core import progress
+from milp.core.orphans import exit_with_parent
+from milp.core.result import MilpResult
 
 __all__ = ["race", "cores", "START_SECONDS"]
 
@@ -53,7 +53,7 @@ def race(entrants: dict[str, str], args: tuple, kwargs: dict[str, Any],
     ----------
     entrants : dict
         Name -> ``"module:function"`` (a function returning a
-        :class:`~milp.result.MilpResult`, e.g. ``"milp.branchcut:min_makespan"``).
+        :class:`~milp.core.result.MilpResult`, e.g. ``"milp.branchcut:min_makespan"``).
     args, kwargs
         Passed to every entrant (picklable).
     time_limit : float or None
@@ -136,7 +136,7 @@ def _number(value: float | None) -> str:
 def _main() -> None:
     """Entrant: read ``(target, args, kwargs)`` pickled from stdin, write the answer pickled
     to stdout (the solvers' own output, if any, goes to stderr). It ends with the process
-    that started it, whose id is its argument (:func:`milp.orphans.exit_with_parent`)."""
+    that started it, whose id is its argument (:func:`milp.core.orphans.exit_with_parent`)."""
     exit_with_parent(int(sys.argv[1]))
     target, args, kwargs = pickle.load(sys.stdin.buffer)
     progress.log_as_entrant()

@@ -1,6 +1,6 @@
 r"""Set partitioning over every subset's cheapest route (Held-Karp), solved by counting.
 
-An exact method independent of :mod:`milp.arcflow` (it shares only the HiGHS plumbing
+An exact method independent of :mod:`milp.compact.arcflow` (it shares only the HiGHS plumbing
 and input checks).
 
 1. Held-Karp dynamic programme, vectorised over subsets: for each subset :math:`S` of
@@ -57,14 +57,14 @@ import highspy
 import numpy as np
 from scipy import sparse
 
-from milp.highs import LpSolve, make_lp, solve_lp
-from milp.result import MilpResult, relative_gap
-from milp.routes import check_distance_matrix, check_routes, within
-from milp.sizes import SETPART_MAX_KPOIS
+from milp.core.highs import LpSolve, make_lp, solve_lp
+from milp.core.result import MilpResult, relative_gap
+from milp.core.routes import check_distance_matrix, check_routes, within
+from milp.core.sizes import SETPART_MAX_KPOIS
 
 log = logging.getLogger(__name__)
 
-#: Largest number of KPOIs (:data:`milp.sizes.SETPART_MAX_KPOIS`, which says why).
+#: Largest number of KPOIs (:data:`milp.core.sizes.SETPART_MAX_KPOIS`, which says why).
 MAX_KPOIS = SETPART_MAX_KPOIS
 
 
@@ -106,7 +106,7 @@ class RouteTable:
     ----------
     D : numpy.ndarray
         ``(n+1, n+1)`` distance matrix, index 0 the start, ``n <= 20``.
-    stop_at : float
+    ends_at : float
         A ``time.perf_counter()`` value: :class:`OutOfTime` is raised when the table is
         not done by then (checked at every layer and end KPOI, a few ms apart at n = 20).
 
@@ -121,7 +121,7 @@ class RouteTable:
         The KPOI index (0-based) before ``j`` on that path, ``-1`` at the first.
     """
 
-    def __init__(self, D: np.ndarray, stop_at: float = math.inf) -> None:
+    def __init__(self, D: np.ndarray, ends_at: float = math.inf) -> None:
         n = len(D) - 1
         if n > MAX_KPOIS:
             raise ValueError(
@@ -129,7 +129,7 @@ class RouteTable:
                 f"{2 ** n * n:,} DP states and {2 ** n - 1:,} columns"
             )
         self.D, self.n = D, n
-        self.last, self.parent = _held_karp(D[1:, 1:], D[0, 1:], stop_at)
+        self.last, self.parent = _held_karp(D[1:, 1:], D[0, 1:], ends_at)
 
     def costs(self, *, tours: bool) -> np.ndarray:
         """Cost of the cheapest route over each subset (index = mask; ``[0]`` unused)."""
@@ -153,9 +153,9 @@ class OutOfTime(Exception):
     """The Held-Karp table was not finished within the time limit."""
 
 
-def _held_karp(between: np.ndarray, first: np.ndarray, stop_at: float) -> tuple[np.ndarray, np.ndarray]:
+def _held_karp(between: np.ndarray, first: np.ndarray, ends_at: float) -> tuple[np.ndarray, np.ndarray]:
     """Held-Karp tables ``(last, parent)`` layer by layer of subset size."""
-    if time.perf_counter() >= stop_at:  # before allocating 2^n x n entries
+    if time.perf_counter() >= ends_at:  # before allocating 2^n x n entries
         raise OutOfTime
     n = len(first)
     masks = np.arange(1 << n)
@@ -167,7 +167,7 @@ def _held_karp(between: np.ndarray, first: np.ndarray, stop_at: float) -> tuple[
     for s in range(2, n + 1):
         layer = masks[size == s]
         for j in range(n):
-            if time.perf_counter() >= stop_at:
+            if time.perf_counter() >= ends_at:
                 raise OutOfTime
             with_j = layer[(layer >> j) & 1 == 1]
             before = last[with_j ^ (1 << j)] + between[:, j][None, :]
@@ -375,7 +375,7 @@ def min_robots(
 ) -> MilpResult:
     """Fewest robots whose routes all meet ``deadline`` (counting, else set partitioning).
 
-    Parameters and return value as :func:`milp.arcflow.min_robots`; ``warm_start`` is
+    Parameters and return value as :func:`milp.compact.arcflow.min_robots`; ``warm_start`` is
     only checked (the model is solved from scratch). Raises ValueError for ``n > 20``.
     """
     began = time.perf_counter()
@@ -419,7 +419,7 @@ def min_makespan(
 ) -> MilpResult:
     """Least makespan with at most ``k`` robots (bisection over route costs).
 
-    Parameters and return value as :func:`milp.arcflow.min_makespan`; ``warm_start`` is
+    Parameters and return value as :func:`milp.compact.arcflow.min_makespan`; ``warm_start`` is
     only checked. Raises ValueError for ``n > 20``. With a time limit, an unresolved
     bisection step ends the search with the best achievable value found as ``feasible``
     and the smallest value not yet ruled out as bound.

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from milp.deadline import Deadline, TimeLimit
-from milp.routes import route_cost, within
+from milp.core.timelimit import TimeLimit, TimeLimitLike
+from milp.core.routes import route_cost, within
 
 
 #: Largest number of nearest-neighbour orders tried by :func:`good_makespan_routes`.
@@ -80,10 +80,10 @@ def split_min_makespan(D: np.ndarray, order: list[int], k: int, *, tours: bool) 
     return routes[::-1]
 
 
-def split_fits(m: int, k: int, deadline: Deadline) -> bool:
-    """Whether what is left of ``deadline`` covers :func:`split_min_makespan` of an order
+def split_fits(m: int, k: int, time_limit: TimeLimit) -> bool:
+    """Whether what is left of ``time_limit`` covers :func:`split_min_makespan` of an order
     of ``m`` KPOIs into ``k`` routes (:data:`SPLIT_SECONDS_PER_CELL`)."""
-    left = deadline.remaining()
+    left = time_limit.remaining()
     return left is None or left >= SPLIT_SECONDS_PER_CELL * (min(k, m) + 1) * m * m
 
 
@@ -113,14 +113,14 @@ def split_min_robots(
     return routes[::-1]
 
 
-def two_opt(D: np.ndarray, route: list[int], *, tours: bool, deadline: Deadline | None = None) -> list[int]:
+def two_opt(D: np.ndarray, route: list[int], *, tours: bool, time_limit: TimeLimit | None = None) -> list[int]:
     """Route improved by segment reversals until none shortens it (first improvement).
 
     For each first position ``i`` in turn, the reversals of ``route[i..j]`` for every
     ``j > i`` are priced at once (the change of the two arcs that move, ``D`` being
     symmetric) and the first that shortens the route by more than 1e-9 is applied;
     the scan goes on after ``j`` on the new route. Stops early, with the route as it
-    is, once ``deadline`` has passed.
+    is, once ``time_limit`` has passed.
     """
     best = list(route)
     m = len(best)
@@ -128,7 +128,7 @@ def two_opt(D: np.ndarray, route: list[int], *, tours: bool, deadline: Deadline 
     while improved:
         improved = False
         for i in range(m - 1):
-            if deadline is not None and deadline.expired():
+            if time_limit is not None and time_limit.expired():
                 return best
             j = i + 1
             while j < m:
@@ -164,19 +164,19 @@ def cheapest_insertion(D: np.ndarray, route: list[int], v: int, *, tours: bool) 
 
 
 def relocate(
-    D: np.ndarray, routes: list[list[int]], k: int, *, tours: bool, deadline: Deadline | None = None
+    D: np.ndarray, routes: list[list[int]], k: int, *, tours: bool, time_limit: TimeLimit | None = None
 ) -> list[list[int]]:
     """Move KPOIs off the costliest route while that lowers both routes below it.
 
     Each accepted move lowers (makespan, number of routes at the makespan)
     lexicographically, so the loop ends. A new route is opened while fewer than ``k``.
-    Once ``deadline`` has passed no further move is searched (the routes stay valid).
+    Once ``time_limit`` has passed no further move is searched (the routes stay valid).
     """
-    routes = [two_opt(D, r, tours=tours, deadline=deadline) for r in routes]
-    while deadline is None or not deadline.expired():
+    routes = [two_opt(D, r, tours=tours, time_limit=time_limit) for r in routes]
+    while time_limit is None or not time_limit.expired():
         costs = [route_cost(D, r, tours=tours) for r in routes]
         worst = int(np.argmax(costs))
-        move = _best_relocation(D, routes, worst, costs[worst], k, tours=tours, deadline=deadline)
+        move = _best_relocation(D, routes, worst, costs[worst], k, tours=tours, time_limit=time_limit)
         if move is None:
             break
         routes = move
@@ -185,18 +185,18 @@ def relocate(
 
 def _best_relocation(
     D: np.ndarray, routes: list[list[int]], worst: int, top: float, k: int, *, tours: bool,
-    deadline: Deadline | None = None,
+    time_limit: TimeLimit | None = None,
 ) -> list[list[int]] | None:
     """Routes after the best KPOI move out of route ``worst`` that beats ``top``, or None
-    (also when ``deadline`` passes before every move was priced)."""
+    (also when ``time_limit`` passes before every move was priced)."""
     best, best_value = None, top - 1e-9
     targets = [i for i in range(len(routes)) if i != worst]
     if len(routes) < k:
         targets.append(len(routes))  # a new route
     for v in routes[worst]:
-        if deadline is not None and deadline.expired():
+        if time_limit is not None and time_limit.expired():
             return None
-        rest = two_opt(D, [u for u in routes[worst] if u != v], tours=tours, deadline=deadline)
+        rest = two_opt(D, [u for u in routes[worst] if u != v], tours=tours, time_limit=time_limit)
         rest_cost = route_cost(D, rest, tours=tours) if rest else 0.0
         for t in targets:
             grown = cheapest_insertion(D, routes[t] if t < len(routes) else [], v, tours=tours)
@@ -204,29 +204,29 @@ def _best_relocation(
             if value < best_value:
                 best_value = value
                 best = [r for r in routes] + ([] if t < len(routes) else [[]])
-                best[worst], best[t] = rest, two_opt(D, grown, tours=tours, deadline=deadline)
+                best[worst], best[t] = rest, two_opt(D, grown, tours=tours, time_limit=time_limit)
     return None if best is None else [r for r in best if r]
 
 
 def good_makespan_routes(
-    D: np.ndarray, k: int, *, tours: bool, seconds: TimeLimit = None
+    D: np.ndarray, k: int, *, tours: bool, time_limit: TimeLimitLike = None
 ) -> list[list[int]]:
     """Best over several nearest-neighbour orders (each from a different first KPOI,
     improved by 2-opt) of the optimal split followed by relocations.
 
-    ``seconds`` (a number from now, or a shared :class:`~milp.deadline.Deadline`) ends
+    ``time_limit`` (seconds from now, or a shared :class:`~milp.core.timelimit.TimeLimit`) ends
     the search: no new order is tried once what is left would not cover its split
     (:func:`split_fits`), and the 2-opt and relocations of the one under way stop where
     they are (at least one order is always split).
     """
-    deadline = Deadline.of(seconds)
+    time_limit = TimeLimit.of(time_limit)
     n = len(D) - 1
     firsts = np.unique(np.linspace(1, n, min(n, MAX_STARTS)).round().astype(int))
     candidates = []
     for first in firsts.tolist():
-        if candidates and (deadline.expired() or not split_fits(n, k, deadline)):
+        if candidates and (time_limit.expired() or not split_fits(n, k, time_limit)):
             break
-        order = two_opt(D, nearest_neighbour_order(D, first), tours=False, deadline=deadline)
+        order = two_opt(D, nearest_neighbour_order(D, first), tours=False, time_limit=time_limit)
         split = split_min_makespan(D, order, k, tours=tours)
-        candidates.append(relocate(D, split, k, tours=tours, deadline=deadline))
+        candidates.append(relocate(D, split, k, tours=tours, time_limit=time_limit))
     return min(candidates, key=lambda routes: max(route_cost(D, r, tours=tours) for r in routes))

@@ -14,7 +14,7 @@ from collections.abc import Callable, Sequence
 from typing import NoReturn
 
 from parcover import __version__
-from milp.deadline import Deadline
+from milp.core.timelimit import TimeLimit
 from parcover import generate as gen
 from parcover.certify import Certificate, verify
 from parcover.errors import InputError
@@ -78,7 +78,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _solve(args: argparse.Namespace) -> int:
     # One deadline from here: reading the instance counts against --time-limit.
-    clock = Deadline(args.time_limit)
+    time_limit = TimeLimit(args.time_limit)
     _start_log(args)
     frames = _frames_folder(args)
     _check_outputs(args, out=args.out, plot=None if frames else args.plot, model=args.export_model)
@@ -100,7 +100,7 @@ def _solve(args: argparse.Namespace) -> int:
         robots=args.robots,
         deadline=args.deadline,
         method=args.method,
-        time_limit=clock,
+        time_limit=time_limit,
         seed=args.seed,
         **options,
     )
@@ -127,7 +127,7 @@ def _solve(args: argparse.Namespace) -> int:
 def _start_log(args: argparse.Namespace) -> None:
     """``--log``: progress lines (phases, incumbents, bounds, gaps, nodes) on stderr."""
     if getattr(args, "log", False):
-        from milp.progress import log_to_stderr
+        from milp.core.progress import log_to_stderr
 
         log_to_stderr()
 

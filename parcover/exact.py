@@ -25,13 +25,13 @@ independently. Six methods:
   construction and runs ``best``'s rounds only if the root bound leaves room;
 - ``branchcut``: the least makespan by branch-and-cut over a three-index model
   (:mod:`milp.branchcut`), strongest with 2-3 long routes;
-- ``compact``: the compact arc-flow model solved by HiGHS (:mod:`milp.arcflow`);
+- ``compact``: the compact arc-flow model solved by HiGHS (:mod:`milp.compact.arcflow`);
 - ``setpart``: Held-Karp route enumeration and set partitioning by inclusion-exclusion
   counting (:mod:`milp.setpart`), an exact method independent of the compact model,
   for up to 20 KPOIs;
-- ``cvxpy``: the compact model written in cvxpy for reading (:mod:`milp.cvx`).
+- ``cvxpy``: the compact model written in cvxpy for reading (:mod:`milp.compact.cvx`).
 
-``time_limit`` is seconds from the call or a :class:`~milp.deadline.Deadline` shared
+``time_limit`` is seconds from the call or a :class:`~milp.core.timelimit.TimeLimit` shared
 with the caller (:func:`parcover.solve` passes one); the warm start and the model
 share it.
 """
@@ -43,8 +43,8 @@ import os
 from collections.abc import Callable
 from typing import Any
 
-from milp.deadline import Deadline, TimeLimit
-from milp.sizes import BRANCHCUT_MAX_KPOIS, BRANCHPRICE_MAX_KPOIS, SETPART_MAX_KPOIS
+from milp.core.timelimit import TimeLimit, TimeLimitLike
+from milp.core.sizes import BRANCHCUT_MAX_KPOIS, BRANCHPRICE_MAX_KPOIS, SETPART_MAX_KPOIS
 from parcover.errors import InputError
 from parcover.instance import Instance
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
@@ -107,7 +107,7 @@ def exact(
     instance: Instance,
     problem: Problem,
     *,
-    time_limit: TimeLimit = None,
+    time_limit: TimeLimitLike = None,
     seed: int = 0,
     warm_start: list[list[int]] | None = None,
     export_model: str | None = None,
@@ -121,50 +121,50 @@ def exact(
     (``warm_start`` is only checked by ``setpart``; ``export_model`` always writes the
     compact model).
     """
-    clock = Deadline.of(time_limit)  # the imports below count against the limit
+    time_limit = TimeLimit.of(time_limit)  # the imports below count against the limit
     if export_model:
         _export(instance, problem, export_model)
-    # above branch-and-price's size limit (milp.sizes), compact alone, without loading
+    # above branch-and-price's size limit (milp.core.sizes), compact alone, without loading
     # branchprice or setpart (importing branchprice took 0.7 s of a 3 s limit at 3000
     # KPOIs, 0.4 s of it numba)
     if instance.n > BRANCHPRICE_MAX_KPOIS:
         log.info("exact: compact model (more than %d KPOIs)", BRANCHPRICE_MAX_KPOIS)
-        return compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
+        return compact(instance, problem, time_limit=time_limit, seed=seed, warm_start=warm_start)
     from milp import setpart as model
 
     if instance.n <= SETPART_FIRST[problem.objective]:
         if problem.objective == "makespan" and model.expected_seconds(instance.n) >= QUICK_CHECK_SECONDS:
-            settled = _meets_trivial_bound(instance, problem, clock, seed)
+            settled = _meets_trivial_bound(instance, problem, time_limit, seed)
             if settled is not None:
                 log.info("exact: best's construction meets the lower bound: optimal")
                 return settled
         log.info("exact: setpart (at most %d KPOIs)", SETPART_FIRST[problem.objective])
-        return _setpart(model, instance, problem, clock, warm_start)
+        return _setpart(model, instance, problem, time_limit, warm_start)
     from milp import branchprice, race  # numba: only when needed
 
-    if not branchprice.ready_within(clock.remaining()):
+    if not branchprice.ready_within(time_limit.remaining()):
         log.info("exact: branch-and-price not compiled and the time limit leaves no room to compile it")
-        fallback = (_setpart(model, instance, problem, clock, warm_start) if instance.n <= model.MAX_KPOIS
-                    else compact(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start))
+        fallback = (_setpart(model, instance, problem, time_limit, warm_start) if instance.n <= model.MAX_KPOIS
+                    else compact(instance, problem, time_limit=time_limit, seed=seed, warm_start=warm_start))
         return _noting_uncompiled(fallback)
     if instance.n > model.MAX_KPOIS:
         if (problem.objective == "makespan" and problem.robots <= RACE_ROUTES and instance.n <= RACE_MAX_KPOIS
                 and race.cores() >= 2):
-            return _race_makespan(instance, problem, clock, seed, warm_start)
+            return _race_makespan(instance, problem, time_limit, seed, warm_start)
         log.info("exact: branch-and-price")
-        return branch_and_price(instance, problem, time_limit=clock, seed=seed, warm_start=warm_start)
+        return branch_and_price(instance, problem, time_limit=time_limit, seed=seed, warm_start=warm_start)
     log.info("exact: branch-and-price for at most %g s, then setpart", BRANCHPRICE_FIRST)
-    first = branch_and_price(instance, problem, time_limit=_share(clock, BRANCHPRICE_FIRST),
+    first = branch_and_price(instance, problem, time_limit=_share(time_limit, BRANCHPRICE_FIRST),
                              seed=seed, warm_start=warm_start)
-    left = clock.remaining()
+    left = time_limit.remaining()
     if _decided(first) or (left is not None and left < model.expected_seconds(instance.n)):
         return first
     log.info("exact: branch-and-price did not prove it; setpart")
-    solution = _setpart(model, instance, problem, clock, warm_start)
+    solution = _setpart(model, instance, problem, time_limit, warm_start)
     return solution if _decided(solution) else first
 
 
-def _race_makespan(instance: Instance, problem: Problem, clock: Deadline, seed: int,
+def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, seed: int,
                    warm_start: list[list[int]] | None) -> Solution:
     """The least makespan with few robots: :func:`branch_and_price` for
     :data:`BRANCHPRICE_FIRST` seconds, then, unless that proved it, ``branchprice``
@@ -173,12 +173,12 @@ def _race_makespan(instance: Instance, problem: Problem, clock: Deadline, seed: 
     the bound is the larger of every method's certified bound."""
     from milp import race
 
-    start = warm_start or warm_start_routes(instance, problem, clock, seed)
+    start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
     log.info("exact: branch-and-price for at most %g s, then a race of %s", BRANCHPRICE_FIRST,
              " and ".join(RACE_MODELS))
-    first = branch_and_price(instance, problem, time_limit=_share(clock, BRANCHPRICE_FIRST),
+    first = branch_and_price(instance, problem, time_limit=_share(time_limit, BRANCHPRICE_FIRST),
                              seed=seed, warm_start=start)
-    left = clock.remaining()
+    left = time_limit.remaining()
     if _decided(first) or (left is not None and left <= race.START_SECONDS + 1.0):
         return first
     answers = race.race({name: f"milp.{name}:min_makespan" for name in RACE_MODELS},
@@ -213,7 +213,7 @@ def _noting_uncompiled(solution: Solution) -> Solution:
     return solution
 
 
-def _meets_trivial_bound(instance: Instance, problem: Problem, clock: Deadline,
+def _meets_trivial_bound(instance: Instance, problem: Problem, time_limit: TimeLimit,
                          seed: int) -> Solution | None:
     """Optimal routes without a model when ``best``'s polished constructions (no
     ruin-and-recreate round) meet the trivial makespan bound (Prop. 1 and the
@@ -222,20 +222,20 @@ def _meets_trivial_bound(instance: Instance, problem: Problem, clock: Deadline,
     from parcover.bounds import lower_bound
     from parcover.verify import route_costs
 
-    routes = warm_start_routes(instance, problem, clock, seed, rounds=0)
+    routes = warm_start_routes(instance, problem, time_limit, seed, rounds=0)
     if not routes:
         return None
-    bound = lower_bound(instance, problem, seconds=clock.remaining())
+    bound = lower_bound(instance, problem, seconds=time_limit.remaining())
     if not meets_deadline(max(route_costs(instance, routes, tours=problem.tours)), bound):
         return None
     return Solution(routes=routes, bound=bound, status=Status.OPTIMAL,
                     info={"model": "bounds", "message": "best's construction meets the trivial lower bound"})
 
 
-def _setpart(model: Any, instance: Instance, problem: Problem, clock: Deadline,
+def _setpart(model: Any, instance: Instance, problem: Problem, time_limit: TimeLimit,
              warm_start: list[list[int]] | None) -> Solution:
     """:mod:`milp.setpart` on ``problem``, ``info["model"]`` = ``"setpart"``."""
-    solution = _run(model.min_makespan, model.min_robots, instance, problem, clock,
+    solution = _run(model.min_makespan, model.min_robots, instance, problem, time_limit,
                     warm_start=warm_start)
     solution.info["model"] = "setpart"
     return solution
@@ -256,17 +256,17 @@ def _decided(solution: Solution) -> bool:
     return solution.status in (Status.OPTIMAL, Status.INFEASIBLE)
 
 
-def _share(clock: Deadline, seconds: float) -> Deadline:
+def _share(time_limit: TimeLimit, seconds: float) -> TimeLimit:
     """A deadline ``seconds`` from now, or half of what is left of ``clock`` if sooner."""
-    left = clock.remaining()
-    return Deadline(seconds if left is None else min(seconds, 0.5 * left))
+    left = time_limit.remaining()
+    return TimeLimit(seconds if left is None else min(seconds, 0.5 * left))
 
 
 def compact(
     instance: Instance,
     problem: Problem,
     *,
-    time_limit: TimeLimit = None,
+    time_limit: TimeLimitLike = None,
     seed: int = 0,
     warm_start: list[list[int]] | None = None,
     export_model: str | None = None,
@@ -277,19 +277,19 @@ def compact(
     heuristic provides one. ``export_model`` writes the model to an ``.mps`` or ``.lp``
     file that any MILP solver can read.
     """
-    clock = Deadline.of(time_limit)  # the import below counts against the limit
+    time_limit = TimeLimit.of(time_limit)  # the import below counts against the limit
     from milp import arcflow
 
     if export_model:
         _export(instance, problem, export_model)
-    return _warm_started(arcflow, "compact", instance, problem, clock, seed, warm_start)
+    return _warm_started(arcflow, "compact", instance, problem, time_limit, seed, warm_start)
 
 
 def branch_and_price(
     instance: Instance,
     problem: Problem,
     *,
-    time_limit: TimeLimit = None,
+    time_limit: TimeLimitLike = None,
     seed: int = 0,
     warm_start: list[list[int]] | None = None,
 ) -> Solution:
@@ -298,41 +298,41 @@ def branch_and_price(
     The fewest routes within a deadline by column generation with arc branching; the
     least makespan as a sequence of those decisions. ``warm_start`` as :func:`compact`.
     """
-    clock = Deadline.of(time_limit)  # the import below counts against the limit
+    time_limit = TimeLimit.of(time_limit)  # the import below counts against the limit
     from milp import branchprice
 
     _check_size(instance, branchprice.MAX_KPOIS, "branchprice")
-    if not branchprice.ready_within(clock.remaining()):
-        routes = warm_start or warm_start_routes(instance, problem, clock, seed)
+    if not branchprice.ready_within(time_limit.remaining()):
+        routes = warm_start or warm_start_routes(instance, problem, time_limit, seed)
         message = (f"branch-and-price not run: its pricing is compiled on first use (up to "
                    f"{branchprice.COMPILE_SECONDS:g} s, then cached) and the time limit leaves less; "
                    "these are best's routes")
         return Solution(routes=routes or [], info={"model": "branchprice", "message": message})
     options: dict[str, Any] = {}
     if not warm_start and problem.objective == "robots" and instance.n <= ROOT_FIRST_MAX:
-        warm_start = warm_start_routes(instance, problem, clock, seed, rounds=0)
-        options["improve"] = lambda floor: warm_start_routes(instance, problem, clock, seed, target=floor)
-    return _warm_started(branchprice, "branchprice", instance, problem, clock, seed, warm_start, **options)
+        warm_start = warm_start_routes(instance, problem, time_limit, seed, rounds=0)
+        options["improve"] = lambda floor: warm_start_routes(instance, problem, time_limit, seed, target=floor)
+    return _warm_started(branchprice, "branchprice", instance, problem, time_limit, seed, warm_start, **options)
 
 
 def branch_and_cut(
     instance: Instance,
     problem: Problem,
     *,
-    time_limit: TimeLimit = None,
+    time_limit: TimeLimitLike = None,
     seed: int = 0,
     warm_start: list[list[int]] | None = None,
 ) -> Solution:
     """Proven least makespan by branch-and-cut over a three-index model
     (:mod:`milp.branchcut`; for few long routes). ``warm_start`` as :func:`compact`."""
-    clock = Deadline.of(time_limit)
+    time_limit = TimeLimit.of(time_limit)
     from milp import branchcut
 
     if problem.objective != "makespan":
         raise InputError("Method 'branchcut' answers the least makespan only (--robots K); "
                          "use exact or branchprice for the fewest robots.")
     _check_size(instance, branchcut.MAX_KPOIS, "branchcut")
-    return _warm_started(branchcut, "branchcut", instance, problem, clock, seed, warm_start)
+    return _warm_started(branchcut, "branchcut", instance, problem, time_limit, seed, warm_start)
 
 
 def _check_size(instance: Instance, most: int, method: str) -> None:
@@ -347,7 +347,7 @@ def _warm_started(
     name: str,
     instance: Instance,
     problem: Problem,
-    time_limit: TimeLimit,
+    time_limit: TimeLimitLike,
     seed: int,
     warm_start: list[list[int]] | None,
     **options: Any,
@@ -355,9 +355,9 @@ def _warm_started(
     """Run ``model.min_makespan`` / ``model.min_robots`` from ``warm_start`` or, without
     one, from the ``best`` heuristic's routes; the heuristic's time counts against
     ``time_limit``. ``options`` go to the model; ``info["model"]`` is ``name``."""
-    clock = Deadline.of(time_limit)
-    start = warm_start or warm_start_routes(instance, problem, clock, seed)
-    solution = _run(model.min_makespan, getattr(model, "min_robots", None), instance, problem, clock,
+    time_limit = TimeLimit.of(time_limit)
+    start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
+    solution = _run(model.min_makespan, getattr(model, "min_robots", None), instance, problem, time_limit,
                     warm_start=start, **options)
     solution.info["model"] = name
     return solution
@@ -385,7 +385,7 @@ def _export(instance: Instance, problem: Problem, path: str) -> None:
 
 
 def setpart(
-    instance: Instance, problem: Problem, *, time_limit: TimeLimit = None, seed: int = 0
+    instance: Instance, problem: Problem, *, time_limit: TimeLimitLike = None, seed: int = 0
 ) -> Solution:
     """Proven optimum by set partitioning over every subset's cheapest route (n <= 20)."""
     from milp import setpart as model
@@ -395,7 +395,7 @@ def setpart(
 
 
 def cvxpy_model(
-    instance: Instance, problem: Problem, *, time_limit: TimeLimit = None, seed: int = 0
+    instance: Instance, problem: Problem, *, time_limit: TimeLimitLike = None, seed: int = 0
 ) -> Solution:
     """Proven optimum of the compact model as written in cvxpy (for reading)."""
     from milp import cvx
@@ -404,7 +404,7 @@ def cvxpy_model(
 
 
 def warm_start_routes(
-    instance: Instance, problem: Problem, time_limit: TimeLimit, seed: int, rounds: int | None = None,
+    instance: Instance, problem: Problem, time_limit: TimeLimitLike, seed: int, rounds: int | None = None,
     target: float | None = None,
 ) -> list[list[int]] | None:
     """Routes from the ``best`` heuristic when it is available, else ``None``; it gets
@@ -419,7 +419,7 @@ def warm_start_routes(
     methods = available_methods()
     if "best" not in methods:
         return None
-    budget = Deadline.of(time_limit).fraction(WARM_SHARE)
+    budget = TimeLimit.of(time_limit).fraction(WARM_SHARE)
     rounds = WARM_ROUNDS[problem.objective] if rounds is None else rounds
     target = lower_bound(instance, problem, seconds=budget.seconds) if target is None else target
     log.info("warm start: best, %d rounds%s", rounds,
@@ -434,12 +434,12 @@ def _run(
     min_robots: Callable[..., Any],
     instance: Instance,
     problem: Problem,
-    time_limit: TimeLimit,
+    time_limit: TimeLimitLike,
     **kwargs: Any,
 ) -> Solution:
     """Run a model's ``min_makespan`` or ``min_robots`` on ``problem`` with what is left
     of ``time_limit`` (the models take seconds) and map its answer to a Solution."""
-    time_limit = Deadline.of(time_limit).remaining()
+    time_limit = TimeLimit.of(time_limit).remaining()
     d = instance.distances
     if problem.objective == "makespan":
         answer = min_makespan(d, problem.robots, tours=problem.tours, time_limit=time_limit, **kwargs)
@@ -450,7 +450,7 @@ def _run(
 
 
 def _solution(answer: Any) -> Solution:
-    """A model's :class:`milp.result.MilpResult` as a Solution."""
+    """A model's :class:`milp.core.result.MilpResult` as a Solution."""
     return Solution(
         routes=[list(r) for r in answer.routes],
         bound=answer.bound,

@@ -14,7 +14,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from milp.sizes import SETPART_MAX_KPOIS
+from milp.core.sizes import SETPART_MAX_KPOIS
 from parcover.compare import compare_optimum
 from parcover.instance import Instance, Metric
 from parcover.io import read_instance, read_json
@@ -26,7 +26,7 @@ __all__ = ["Answer", "Question", "GreedyLimit", "Check", "check", "render_check"
 
 
 def exact_method_for(instance: Instance) -> str:
-    """``setpart`` up to its size limit (:data:`milp.sizes.SETPART_MAX_KPOIS` KPOIs), else ``exact``."""
+    """``setpart`` up to its size limit (:data:`milp.core.sizes.SETPART_MAX_KPOIS` KPOIs), else ``exact``."""
     return "setpart" if instance.n <= SETPART_MAX_KPOIS else "exact"
 
 

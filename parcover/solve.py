@@ -18,7 +18,7 @@ from dataclasses import replace
 from functools import partial
 from typing import Any
 
-from milp.deadline import Deadline, TimeLimit
+from milp.core.timelimit import TimeLimit, TimeLimitLike
 from parcover.bounds import lower_bound, robots_lower_bound
 from parcover.errors import InputError
 from parcover.instance import Instance, check_whole, finite_float, short_repr
@@ -69,7 +69,7 @@ def solve(
     deadline: float | None = None,
     method: str = "exact",
     *,
-    time_limit: TimeLimit = None,
+    time_limit: TimeLimitLike = None,
     seed: int = 0,
     **options: Any,
 ) -> Result:
@@ -91,7 +91,7 @@ def solve(
         with options, ``NAME:OPTION=VALUE[:...]`` (:func:`method_with_options`).
     time_limit
         Seconds for the whole answer (``None``: no limit), or a
-        :class:`~milp.deadline.Deadline` started earlier (the CLI starts one before it
+        :class:`~milp.core.timelimit.TimeLimit` started earlier (the CLI starts one before it
         reads the instance). Every phase shares it: the method gets what is left less
         a small share kept for verification, and the answer arrives within the limit
         (plus the rounding of uninterruptible steps; the time-limit tests hold it within
@@ -132,26 +132,26 @@ def solve(
     seed = check_whole(seed, "seed", 0)
     if options.get("warm_start") is not None:
         options["warm_start"] = _warm_start_indices(instance, problem, options["warm_start"])
-    clock = _deadline(time_limit)
+    time_limit = _checked_time_limit(time_limit)
     started = time.perf_counter()
-    limit = problem.effective_deadline(instance)
-    if limit is not None and not meets_deadline(problem.least_makespan(instance), limit):
+    coverage_deadline = problem.effective_deadline(instance)
+    if coverage_deadline is not None and not meets_deadline(problem.least_makespan(instance), coverage_deadline):
         solution = Solution(routes=[], status=Status.INFEASIBLE,
-                            info={"message": unreachable_reason(instance, problem, limit)})
-    elif clock.expired():
-        spent = f"{clock.seconds:g} s" if clock.seconds is not None else "time"
+                            info={"message": unreachable_reason(instance, problem, coverage_deadline)})
+    elif time_limit.expired():
+        spent = f"{time_limit.seconds:g} s" if time_limit.seconds is not None else "time"
         solution = Solution(routes=[], status=Status.UNKNOWN, info={
             "message": f"the time limit of {spent} was spent before {method!r} could start "
                        "(reading and building the instance); give a longer time limit"})
     else:
-        left = clock.remaining()
+        left = time_limit.remaining()
         seconds = None if left is None else (1 - _CHECK_SHARE) * left
         log.info("solve: %s, %s, method %s, %s", instance.name or "instance", _question_text(instance, problem),
                  method, "no time limit" if seconds is None else f"{seconds:.3g} s for the method")
         solution = info.function(instance, _at_most_n_robots(instance, problem), time_limit=seconds, seed=seed,
                                  **options)
     result = build_result(instance, problem, method, solution, time.perf_counter() - started,
-                          time_left=clock.remaining())
+                          time_left=time_limit.remaining())
     log.info("solve: %s", result.headline())
     return result
 
@@ -190,11 +190,11 @@ def _warm_start_indices(instance: Instance, problem: Problem, routes: Any) -> li
         raise InputError("warm_start must visit every KPOI exactly once.")
     if problem.robots is not None and len(rows) > problem.robots:
         raise InputError(f"warm_start has {len(rows)} routes; the question allows {problem.robots}.")
-    limit = problem.effective_deadline(instance)
-    if limit is not None:
+    coverage_deadline = problem.effective_deadline(instance)
+    if coverage_deadline is not None:
         costs = route_costs(instance, rows, tours=problem.tours)
-        if not all(meets_deadline(c, limit) for c in costs):
-            raise InputError(f"warm_start has a route of cost {max(costs):g}, above the deadline {limit:g}.")
+        if not all(meets_deadline(c, coverage_deadline) for c in costs):
+            raise InputError(f"warm_start has a route of cost {max(costs):g}, above the deadline {coverage_deadline:g}.")
     return rows
 
 
@@ -206,13 +206,13 @@ def _at_most_n_robots(instance: Instance, problem: Problem) -> Problem:
     return Problem(problem.routes, instance.n, None)
 
 
-def _deadline(time_limit: TimeLimit) -> Deadline:
+def _checked_time_limit(time_limit: TimeLimitLike) -> TimeLimit:
     """The deadline of a solve, after checking that the limit is a positive number of seconds."""
-    given = time_limit.seconds if isinstance(time_limit, Deadline) else time_limit
+    given = time_limit.seconds if isinstance(time_limit, TimeLimit) else time_limit
     seconds = None if given is None else finite_float(given)
     if given is not None and not (seconds is not None and seconds > 0):
         raise InputError(f"The time limit must be a positive number of seconds, got {short_repr(given)}.")
-    return time_limit if isinstance(time_limit, Deadline) else Deadline(seconds)
+    return time_limit if isinstance(time_limit, TimeLimit) else TimeLimit(seconds)
 
 
 def build_result(

@@ -11,7 +11,7 @@ import pytest
 from benchmarks import exact_scaling, naive_models
 from benchmarks.common import Config, euclidean_distances, euclidean_points, run_peer
 from milp import setpart
-from milp.routes import least_makespan, route_cost, within
+from milp.core.routes import least_makespan, route_cost, within
 from parcover import Instance
 
 HAS_ORTOOLS = importlib.util.find_spec("ortools") is not None

@@ -1,4 +1,4 @@
-"""Certified column-generation bounds (milp/colgen.py) never exceed the exact optimum."""
+"""Certified column-generation bounds (milp/branchprice/colgen.py) never exceed the exact optimum."""
 
 from __future__ import annotations
 
@@ -7,9 +7,10 @@ from itertools import permutations
 import numpy as np
 import pytest
 
-from milp import arcflow, colgen, setpart
-from milp.merge import merge_zero_distances
-from milp.routes import least_makespan
+from milp import arcflow, setpart
+from milp.branchprice import colgen
+from milp.core.merge import merge_zero_distances
+from milp.core.routes import least_makespan
 
 
 def _euclidean(n: int, seed: int, coincident: bool = False) -> np.ndarray:
@@ -133,7 +134,7 @@ def test_pricing_value_covers_every_real_route(tours):
 
 @pytest.mark.parametrize("n, seed, tours", [(8, 21, False), (9, 22, True), (12, 23, False), (25, 24, True)])
 def test_master_routes_are_valid_and_no_fewer_than_the_optimum(n, seed, tours):
-    from milp.routes import check_routes, route_cost, within
+    from milp.core.routes import check_routes, route_cost, within
 
     D = _euclidean(n, seed)
     for factor in (1.0, 1.3):

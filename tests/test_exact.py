@@ -74,7 +74,8 @@ def test_branchprice_keeps_to_its_time_limit_warm_start_included():
 
 
 def test_ready_within_needs_the_compiled_pricing_or_room_to_compile(monkeypatch):
-    from milp import branchprice, compiling
+    from milp import branchprice
+    from milp.branchprice import compiling
 
     branchprice.compile_pricing()  # compiles (a fresh installation) or loads the cache
     assert branchprice.ready_within(0.1)

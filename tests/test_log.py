@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from milp import race
-from milp.progress import log_to_stderr
+from milp.core.progress import log_to_stderr
 from parcover import generate, solve
 
 INSTANCES = Path(__file__).resolve().parent.parent / "instances"

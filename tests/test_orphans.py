@@ -1,6 +1,6 @@
 """No orphans: a killed ``parcover report`` (any signal, SIGKILL
 included) leaves no pool worker behind, nor does one that ends or fails, and a child
-that calls :func:`milp.orphans.exit_with_parent` ends with its parent."""
+that calls :func:`milp.core.orphans.exit_with_parent` ends with its parent."""
 
 from __future__ import annotations
 
@@ -89,7 +89,7 @@ _PARENT = textwrap.dedent("""
 
 _CHILD = textwrap.dedent("""
     import os, time
-    from milp import orphans
+    from milp.core import orphans
     {start}
     print(os.getpid(), flush=True)
     while True:  # also with the GIL held in compiled code the kernel ends it; here it sleeps

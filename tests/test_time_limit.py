@@ -19,8 +19,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from milp.deadline import Deadline
-from milp.routes import route_cost
+from milp.core.timelimit import TimeLimit
+from milp.core.routes import route_cost
 from milp.warmstart import two_opt
 from parcover import Instance, solve, verify
 from parcover.generate import random_points
@@ -69,7 +69,7 @@ def test_exact_above_branchprice_size_loads_neither_branchprice_nor_setpart() ->
     assert BRANCHPRICE_MAX_KPOIS == branchprice.MAX_KPOIS
     script = ("import sys; from parcover import solve; from parcover.generate import random_points; "
               f"solve(random_points({BRANCHPRICE_MAX_KPOIS + 1}, seed=1), robots=3, time_limit=0.5); "
-              "print(sorted(m for m in ('milp.branchprice', 'milp.setpart', 'numba') if m in sys.modules))")
+              "print(sorted(m for m in ('milp.branchprice.search', 'milp.branchprice.ngroute', 'milp.setpart', 'numba') if m in sys.modules))")
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert done.stdout.split() == ["[]"]
@@ -88,7 +88,7 @@ def test_best_converts_an_instances_distances_once() -> None:
 
 @pytest.mark.parametrize("shift, symmetric", [(0.0, True), (1e-13, True), (1e-9, False), (-1e-9, False)])
 def test_symmetry_is_checked_to_round_off(shift: float, symmetric: bool) -> None:
-    from milp.routes import check_distance_matrix
+    from milp.core.routes import check_distance_matrix
 
     D = random_points(300, seed=1).distances.copy()  # more rows than one block of the test
     D[7, 290] += shift * D.max()
@@ -101,7 +101,7 @@ def test_symmetry_is_checked_to_round_off(shift: float, symmetric: bool) -> None
 
 def test_a_limit_spent_before_the_method_starts_gives_unknown() -> None:
     instance = Instance.from_points([(0, 0), (1, 0), (0, 1)])
-    clock = Deadline(1e-6)
+    clock = TimeLimit(1e-6)
     time.sleep(0.01)
     result = solve(instance, robots=1, time_limit=clock)
     assert result.status.value == "unknown" and not result.routes
@@ -112,20 +112,20 @@ def test_a_non_positive_limit_is_refused() -> None:
     from parcover.errors import InputError
 
     with pytest.raises(InputError, match="positive"):
-        solve(Instance.from_points([(0, 0), (1, 0)]), robots=1, time_limit=Deadline(0.0))
+        solve(Instance.from_points([(0, 0), (1, 0)]), robots=1, time_limit=TimeLimit(0.0))
 
 
 def test_deadline_counts_down_and_expires() -> None:
-    unlimited = Deadline(None)
+    unlimited = TimeLimit(None)
     assert unlimited.unlimited and unlimited.remaining() is None and not unlimited.expired()
     assert unlimited.fraction(0.5).unlimited and unlimited.earlier(1.0).unlimited
-    clock = Deadline(0.2)
+    clock = TimeLimit(0.2)
     assert 0.0 < clock.remaining() <= 0.2 and not clock.expired()
     assert clock.fraction(0.5).remaining() <= 0.1 + 1e-9
     assert clock.earlier(0.15).remaining() <= 0.05 + 1e-9
     assert clock.earlier(1.0).expired()
-    assert Deadline.of(clock) is clock
-    assert Deadline.of(3.0).remaining() == pytest.approx(3.0, abs=0.1)
+    assert TimeLimit.of(clock) is clock
+    assert TimeLimit.of(3.0).remaining() == pytest.approx(3.0, abs=0.1)
     time.sleep(0.21)
     assert clock.expired() and clock.remaining() == 0.0
 
@@ -134,7 +134,7 @@ def test_an_expired_deadline_stops_two_opt_at_once() -> None:
     points = np.random.default_rng(3).uniform(0, 100, (41, 2))
     D = np.hypot(*(points[:, None, :] - points[None, :, :]).transpose(2, 0, 1))
     order = list(range(1, 41))
-    assert two_opt(D, order, tours=True, deadline=Deadline(0.0)) == order
+    assert two_opt(D, order, tours=True, time_limit=TimeLimit(0.0)) == order
     assert route_cost(D, two_opt(D, order, tours=True), tours=True) < route_cost(D, order, tours=True)
 
 

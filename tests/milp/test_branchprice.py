@@ -1,4 +1,4 @@
-"""Branch-and-price (milp.branchprice) and its ng-route pricing (milp.ngroute).
+"""Branch-and-price (milp.branchprice) and its ng-route pricing (milp.branchprice.ngroute).
 
 The cross-check against arcflow, setpart and cvxpy on seeded instances is in
 test_crosscheck.py; here: the pricing against brute force, clustered and coincident
@@ -15,10 +15,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from milp import branchprice, colgen, setpart, tree
-from milp import ngroute
-from milp.ngroute import MAX_CUTS, Pricing
-from milp.routes import least_makespan
+from milp import setpart
+from milp.branchprice import search as branchprice
+from milp.branchprice import colgen, tree
+from milp.branchprice import ngroute
+from milp.branchprice.ngroute import MAX_CUTS, Pricing
+from milp.core.routes import least_makespan
 from milp_helpers import TOL, check_solution, euclidean, graph_metric
 
 
@@ -308,7 +310,7 @@ def test_pricing_with_cuts_is_the_elementary_optimum(seed):
 @pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
 def test_makespan_bound_takes_the_q_route_bound_when_the_ng_route_bisection_runs_out(tours, monkeypatch):
     """When the ng-route LP bisection has not converged in its half of the time, the
-    q-route bound of milp.colgen continues from it, then the ng-route bisection again; the
+    q-route bound of milp.branchprice.colgen continues from it, then the ng-route bisection again; the
     bound stays at or below setpart's optimum. With time to converge, colgen is not run."""
     D = euclidean(10, 3)
     k, optimum = 3, setpart.min_makespan(D, 3, tours=tours).objective
@@ -322,7 +324,7 @@ def test_makespan_bound_takes_the_q_route_bound_when_the_ng_route_bisection_runs
         return q_bound(*args, lower=lower, **kwargs)
 
     monkeypatch.setattr(branchprice.colgen, "makespan_lower_bound", recording)
-    search = branchprice._Search(D, tours=tours, stop_at=None)
+    search = branchprice._Search(D, tours=tours, ends_at=None)
     converged = branchprice._makespan_lp_bound(search, k, lower, upper, time.perf_counter() + 60)
     assert not asked and lower < converged <= optimum * (1 + TOL)
 
@@ -332,11 +334,11 @@ def test_makespan_bound_takes_the_q_route_bound_when_the_ng_route_bisection_runs
     def out_of_time_at_first(search, k, low, high):
         halves.append(low)
         if len(halves) == 1:  # the first half ends before any step: as with long routes
-            search.stop_at = time.perf_counter()
+            search.ends_at = time.perf_counter()
         return bisect(search, k, low, high)
 
     monkeypatch.setattr(branchprice, "_bisect_lp_bound", out_of_time_at_first)
-    search = branchprice._Search(D, tours=tours, stop_at=None)
+    search = branchprice._Search(D, tours=tours, ends_at=None)
     bound = branchprice._makespan_lp_bound(search, k, lower, upper, time.perf_counter() + 60)
     assert asked == [lower] and len(halves) == 2 and halves[1] >= lower
     assert bound == pytest.approx(converged, rel=1e-3) and bound <= optimum * (1 + TOL)

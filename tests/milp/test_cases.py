@@ -11,8 +11,8 @@ import pytest
 
 import milp
 from milp import arcflow, cvx, setpart
-from milp.highs import solve_lp
-from milp.result import MilpResult, relative_gap
+from milp.core.highs import solve_lp
+from milp.core.result import MilpResult, relative_gap
 from milp_helpers import TOL, check_solution, euclidean, graph_metric
 
 METHODS = [arcflow, setpart, cvx]

@@ -11,7 +11,8 @@ import time
 import numba
 import pytest
 
-from milp import compiling, jit
+from milp.branchprice import compiling
+from milp.core import jit
 
 
 @pytest.fixture

@@ -11,7 +11,7 @@ import pytest
 
 import parcover
 from milp import branchprice, setpart
-from milp.routes import route_cost
+from milp.core.routes import route_cost
 
 from milp_helpers import euclidean
 

@@ -1,4 +1,4 @@
-"""Route enumeration (milp/enumeration.py) against brute force, and branch-and-price
+"""Route enumeration (milp/branchprice/enumeration.py) against brute force, and branch-and-price
 answering nodes with it against set partitioning."""
 
 from __future__ import annotations
@@ -9,9 +9,11 @@ import itertools
 import numpy as np
 import pytest
 
-from milp import branchprice, columns, setpart
-from milp.enumeration import routes_within_gap
-from milp.routes import least_makespan
+from milp import setpart
+from milp.branchprice import search as branchprice
+from milp.branchprice import columns
+from milp.branchprice.enumeration import routes_within_gap
+from milp.core.routes import least_makespan
 
 
 def _length(D: np.ndarray, back: np.ndarray, route: tuple[int, ...]) -> float:

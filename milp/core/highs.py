@@ -61,7 +61,7 @@ class LpSolve:
     ----------
     status : str
         One of ``optimal``, ``feasible``, ``infeasible``, ``unknown`` (see
-        :class:`milp.result.MilpResult`).
+        :class:`milp.core.result.MilpResult`).
     values : numpy.ndarray or None
         Column values of the best solution found; None without one.
     objective : float or None
@@ -201,7 +201,7 @@ def write_model(lp: highspy.HighsLp, path: str | os.PathLike[str]) -> Path:
     Parameters
     ----------
     lp : highspy.HighsLp
-        The model, e.g. from :func:`milp.arcflow.build_model`.
+        The model, e.g. from :func:`milp.compact.arcflow.build_model`.
     path : path-like
         Destination ending in ``.mps`` or ``.lp``.
 

@@ -68,7 +68,7 @@ a ``T`` proven infeasible becomes the new lower end. The grid is fixed for the w
 bisection (:math:`\delta` from the upper bound), so columns carry over between steps.
 
 Pre-processing: KPOIs at distance 0 are merged and KPOIs at the start dropped
-(:mod:`milp.merge`); shortcutting repeated classes turns any solution of the original
+(:mod:`milp.core.merge`); shortcutting repeated classes turns any solution of the original
 into one of the merged instance with no longer routes, so bounds carry back. The grid
 is never coarser than the smallest positive distance, so every arc has
 :math:`d' \ge 1` and the programme has no zero-length cycles; when that would need more
@@ -86,11 +86,11 @@ import numpy as np
 from scipy import sparse
 
 from milp.bounds import makespan_lower_bound as tree_lower_bound
-from milp.deadline import Deadline, TimeLimit
+from milp.core.timelimit import TimeLimit, TimeLimitLike
 from milp.bounds import robots_lower_bound as tree_robots_bound
-from milp.highs import LpSolve, make_lp, new_highs, solve_lp
-from milp.merge import merge_zero_distances
-from milp.routes import check_distance_matrix, first_visits, least_makespan, route_cost, within
+from milp.core.highs import LpSolve, make_lp, new_highs, solve_lp
+from milp.core.merge import merge_zero_distances
+from milp.core.routes import check_distance_matrix, first_visits, least_makespan, route_cost, within
 
 #: Grid steps over the upper bound: :math:`\delta = \text{upper} / \text{GRID}`.
 GRID = 1000
@@ -130,7 +130,7 @@ class BoundInfo:
     routes : list of list of int
         :func:`robots_bound` with ``routes=True``: routes within the deadline from the
         generated columns (:func:`master_routes`), in the indices of the merged matrix
-        (:func:`milp.merge.merge_zero_distances`); else empty.
+        (:func:`milp.core.merge.merge_zero_distances`); else empty.
     """
 
     bound: float
@@ -304,13 +304,13 @@ def _single_kpoi_master(pricer: _Pricer) -> _Master:
 
 
 def _fewest_routes_lp(
-    master: _Master, pricer: _Pricer, L: int, target: float | None, stop_at: float | None,
+    master: _Master, pricer: _Pricer, L: int, target: float | None, ends_at: float | None,
 ) -> tuple[float, float, int, str]:
     """Column generation at budget ``L``: ``(farley, master_value, iterations, why)``.
 
     ``farley`` is a certified lower bound (4) on :math:`z'`. Stops when it exceeds
     ``target``, when the master's value is at most ``target`` (a target cannot be
-    proven), when the LP is solved (bound meets the master's value), or at ``stop_at``
+    proven), when the LP is solved (bound meets the master's value), or at ``ends_at``
     (``time.perf_counter()`` value; also before a pricing that would end after it). Duals are smoothed (Wentges 1997): the pricing uses
     ``SMOOTHING * center + (1 - SMOOTHING) * master duals``, the center being the scaled
     duals of the best bound so far; (4) holds for any non-negative duals, so the bound
@@ -326,7 +326,7 @@ def _fewest_routes_lp(
         value = float(h.getInfo().objective_function_value)
         duals = np.maximum(np.asarray(h.getSolution().row_dual, dtype=np.float64), 0.0)
         pi = duals if center is None else SMOOTHING * center + (1 - SMOOTHING) * duals
-        if stop_at is not None and time.perf_counter() + pricer.pricing_seconds(L) > stop_at:
+        if ends_at is not None and time.perf_counter() + pricer.pricing_seconds(L) > ends_at:
             return farley, value, iterations, "time limit"
         M, walks, needs = pricer.price(pi, L)
         iterations += 1
@@ -341,7 +341,7 @@ def _fewest_routes_lp(
             return farley, value, iterations, "rounded bound closed"
         if farley >= value * (1 - 1e-7):
             return farley, value, iterations, "LP solved"
-        if stop_at is not None and time.perf_counter() >= stop_at:
+        if ends_at is not None and time.perf_counter() >= ends_at:
             return farley, value, iterations, "time limit"
         counts = [np.bincount(w - 1, minlength=master.n) for w in walks]
         keep = [i for i, c in enumerate(counts) if float(c @ duals) > 1 + 1e-9]
@@ -352,14 +352,14 @@ def _fewest_routes_lp(
             return farley, value, iterations, "no new column"
 
 
-def _pricing_fits(pricer: _Pricer, L: int, clock: Deadline) -> bool:
+def _pricing_fits(pricer: _Pricer, L: int, time_limit: TimeLimit) -> bool:
     """Whether one pricing at budget ``L`` fits in what is left of ``clock``."""
-    left = clock.remaining()
+    left = time_limit.remaining()
     return left is None or pricer.pricing_seconds(L) <= left
 
 
 def _setup(merged: np.ndarray, top: float, *, tours: bool) -> tuple[float, _Pricer] | None:
-    """Grid step and pricer over a merged matrix (:func:`milp.merge.merge_zero_distances`),
+    """Grid step and pricer over a merged matrix (:func:`milp.core.merge.merge_zero_distances`),
     or None when the grid would be too large."""
     n = len(merged) - 1
     if n == 0 or (GRID + 2) * (n + 1) > MAX_CELLS:
@@ -374,7 +374,7 @@ def _setup(merged: np.ndarray, top: float, *, tours: bool) -> tuple[float, _Pric
 
 
 def makespan_bound(
-    D: np.ndarray, k: int, *, tours: bool, upper: float, time_limit: TimeLimit = None,
+    D: np.ndarray, k: int, *, tours: bool, upper: float, time_limit: TimeLimitLike = None,
     lower: float = 0.0,
 ) -> BoundInfo:
     """Certified lower bound on the least makespan with at most ``k`` routes, with details.
@@ -389,7 +389,7 @@ def makespan_bound(
         Tours (return to 0) or open paths.
     upper : float
         A makespan known to be achievable (e.g. a heuristic's); the bisection's upper end.
-    time_limit : float or milp.deadline.Deadline, optional
+    time_limit : float or milp.core.timelimit.TimeLimit, optional
         Seconds, or a deadline shared with the caller; the bound found so far is
         returned when they run out, and the spanning-tree bound at once when one
         pricing would not fit (:meth:`_Pricer.pricing_seconds`).
@@ -404,8 +404,8 @@ def makespan_bound(
         ``bound`` never exceeds the optimum (module docstring).
     """
     began = time.perf_counter()
-    clock = Deadline.of(time_limit)
-    stop_at = clock.at
+    time_limit = TimeLimit.of(time_limit)
+    ends_at = time_limit.ends_at
     if k < 1:
         raise ValueError("k must be at least 1")
     D = check_distance_matrix(D)
@@ -418,7 +418,7 @@ def makespan_bound(
         info.seconds = time.perf_counter() - began
         return info
     delta, pricer = ready
-    if not _pricing_fits(pricer, pricer.budget(upper, delta), clock):
+    if not _pricing_fits(pricer, pricer.budget(upper, delta), time_limit):
         info.message = "starting bound (no time for one pricing)"
         info.seconds = time.perf_counter() - began
         return info
@@ -426,11 +426,11 @@ def makespan_bound(
     lo, hi = floor, upper
     info.message = "converged"
     while hi - lo > BISECTION_TOL * hi:
-        if stop_at is not None and time.perf_counter() >= stop_at:
+        if ends_at is not None and time.perf_counter() >= ends_at:
             info.message = "time limit"
             break
         T = 0.5 * (lo + hi)
-        farley, value, its, why = _fewest_routes_lp(master, pricer, pricer.budget(T, delta), k, stop_at)
+        farley, value, its, why = _fewest_routes_lp(master, pricer, pricer.budget(T, delta), k, ends_at)
         proven = why == "proven"
         info.steps.append((T, proven, farley, value, its))
         if proven:
@@ -443,7 +443,7 @@ def makespan_bound(
 
 
 def makespan_lower_bound(
-    D: np.ndarray, k: int, *, tours: bool, upper: float, time_limit: TimeLimit = None,
+    D: np.ndarray, k: int, *, tours: bool, upper: float, time_limit: TimeLimitLike = None,
     lower: float = 0.0,
 ) -> float:
     """Certified lower bound on the least makespan with at most ``k`` routes.
@@ -454,7 +454,7 @@ def makespan_lower_bound(
 
 
 def robots_bound(
-    D: np.ndarray, deadline: float, *, tours: bool, time_limit: TimeLimit = None,
+    D: np.ndarray, deadline: float, *, tours: bool, time_limit: TimeLimitLike = None,
     routes: bool = False,
 ) -> BoundInfo:
     """Certified lower bound (float) on the fewest routes within ``deadline``, with details.
@@ -463,16 +463,16 @@ def robots_bound(
     (:meth:`BoundInfo.robots`). ``trivial`` is the spanning-tree count of
     :func:`milp.bounds.robots_lower_bound`. With ``routes``, ``info.routes`` also holds a
     solution from the generated columns (:func:`master_routes`, within ``time_limit``:
-    seconds or a shared :class:`~milp.deadline.Deadline`; the trivial bound at once when
+    seconds or a shared :class:`~milp.core.timelimit.TimeLimit`; the trivial bound at once when
     one pricing would not fit). Raises ValueError when ``deadline`` is below ``c_max`` / ``2 c_max`` (no solution).
     """
     began = time.perf_counter()
-    clock = Deadline.of(time_limit)
+    time_limit = TimeLimit.of(time_limit)
     D = check_distance_matrix(D)
     if deadline < least_makespan(D, tours=tours) * (1 - 1e-9) - 1e-9:
         raise ValueError("deadline below the least makespan: no solution")
     merged = merge_zero_distances(D).D
-    trivial = float(tree_robots_bound(merged, deadline, tours=tours, time_limit=clock.remaining()))
+    trivial = float(tree_robots_bound(merged, deadline, tours=tours, time_limit=time_limit.remaining()))
     info = BoundInfo(trivial, trivial)
     ready = _setup(merged, deadline, tours=tours)
     if ready is None:
@@ -481,16 +481,16 @@ def robots_bound(
         return info
     delta, pricer = ready
     L = pricer.budget(deadline, delta)
-    if not _pricing_fits(pricer, L, clock):
+    if not _pricing_fits(pricer, L, time_limit):
         info.message = "trivial bound (no time for one pricing)"
         info.seconds = time.perf_counter() - began
         return info
     master = _single_kpoi_master(pricer)
-    farley, value, its, why = _fewest_routes_lp(master, pricer, L, None, clock.at)
+    farley, value, its, why = _fewest_routes_lp(master, pricer, L, None, time_limit.ends_at)
     info.steps.append((deadline, False, farley, value, its))
     info.bound, info.columns, info.message = max(farley, trivial), len(master.pool), why
     if routes:
-        left = clock.remaining()
+        left = time_limit.remaining()
         info.routes = master_routes(master, merged, deadline, tours=tours,
                                     time_limit=None if left is None else max(left, 0.05))
     info.seconds = time.perf_counter() - began
@@ -516,7 +516,7 @@ def master_routes(master: _Master, D: np.ndarray, deadline: float, *, tours: boo
 def fewest_covering(orders: list[np.ndarray], n: int, time_limit: float | None) -> list[list[int]] | None:
     """The fewest of ``orders`` (KPOI sequences over ``1..n``) covering every KPOI: the
     set-covering integer program in HiGHS within ``time_limit``, the chosen routes made a
-    partition by :func:`milp.routes.first_visits`. None when no covering was found in time."""
+    partition by :func:`milp.core.routes.first_visits`. None when no covering was found in time."""
     return covering_solve(orders, n, time_limit)[1]
 
 
@@ -538,7 +538,7 @@ def covering_solve(orders: list[np.ndarray], n: int, time_limit: float | None,
 
 
 def robots_lower_bound(
-    D: np.ndarray, deadline: float, *, tours: bool, time_limit: TimeLimit = None,
+    D: np.ndarray, deadline: float, *, tours: bool, time_limit: TimeLimitLike = None,
 ) -> int:
     """Certified lower bound on the fewest robots whose routes all meet ``deadline``.
 

@@ -3,7 +3,7 @@ r"""Branch-and-price over ng-routes: fewest routes within a deadline, least make
 Model
 -----
 For a length budget :math:`U` let :math:`\mathcal R(U)` be the ng-routes
-(:mod:`milp.ngroute`) of length at most :math:`U` from the start 0 (paths, or tours back
+(:mod:`milp.branchprice.ngroute`) of length at most :math:`U` from the start 0 (paths, or tours back
 to 0), :math:`a_{ir}` the visits of KPOI :math:`i` by route :math:`r`:
 
 .. math::
@@ -20,12 +20,12 @@ optimum of (1)-(3) is the fewest robots within :math:`U` (Ghannam, Mexi, Lam and
 Column generation
 -----------------
 The LP relaxation of (1)-(3) over a restricted set of columns (the master, HiGHS) gives
-duals :math:`\pi \ge 0`; the pricing (:class:`milp.ngroute.Pricing`) returns routes with
+duals :math:`\pi \ge 0`; the pricing (:class:`milp.branchprice.ngroute.Pricing`) returns routes with
 :math:`\sum_i a_{ir}\pi_i > 1` and the largest such prize :math:`M`. Farley's bound
 :math:`\sum_i \pi_i / \max(M, 1)` is a lower bound on the LP for *any* :math:`\pi \ge 0`
-(Farley 1990, Oper. Res. 38; see :mod:`milp.colgen`), so each exact pricing certifies a
+(Farley 1990, Oper. Res. 38; see :mod:`milp.branchprice.colgen`), so each exact pricing certifies a
 bound, and the node is closed as soon as its rounded-up bound exceeds the target. Columns
-are kept in one pool for the whole search (:class:`milp.columns.Pool`; every node and
+are kept in one pool for the whole search (:class:`milp.branchprice.columns.Pool`; every node and
 every budget reuses those that fit). Pricing is heuristic first (fast dominance) and
 exact only when the heuristic finds nothing, and the duals are smoothed towards the best
 certificate so far (Wentges 1997, Int. Trans. Oper. Res. 4); a smoothed round that prices
@@ -40,11 +40,11 @@ A solved fractional LP is strengthened by subset-row cuts on triples :math:`S` o
 
 valid for every partition into elementary routes (at most one route can visit two of
 three KPOIs; Jepsen, Petersen, Spoorendonk and Pisinger 2008, Oper. Res. 56(2)), with the
-limited-memory coefficients of :func:`milp.ngroute.cut_coefficients` (Pecin, Pessoa,
+limited-memory coefficients of :func:`milp.branchprice.ngroute.cut_coefficients` (Pecin, Pessoa,
 Poggi and Uchoa 2017): the memory of a cut is its triple and the KPOIs the current
-solution's routes visit between two of its KPOIs (separation: :mod:`milp.cuts`). The
+solution's routes visit between two of its KPOIs (separation: :mod:`milp.branchprice.cuts`). The
 pricing carries one parity bit per cut; the cut duals :math:`\sigma \le 0` enter Farley's
-bound as :math:`(\sum_i \pi_i + \sum_S \sigma_S) / \max(M, 1)`. At most :data:`milp.ngroute.MAX_CUTS`
+bound as :math:`(\sum_i \pi_i + \sum_S \sigma_S) / \max(M, 1)`. At most :data:`milp.branchprice.ngroute.MAX_CUTS`
 cuts in all and :data:`CUTS_PER_KPOI` per KPOI, and only for LP solutions of at least
 :data:`CUT_MIN_ROUTES` routes: each parity bit splits the labels a dominance test can
 compare (measured: unlimited cuts made a 12-KPOI, 2-path search 200x slower, while the
@@ -58,7 +58,7 @@ start and arcs to the end of a route included (for tours on edge flows
 is forbidden in one child (``x = 0``; for tours both directions) and imposed in the other
 (``x = 1``: ``i`` is followed by ``j`` in every route through ``i`` and ``j`` preceded by
 ``i``), both enforced in the pricing by removing arcs, so that the pricing keeps its
-structure (:class:`milp.columns.Node`). Every coverage solution (elementary routes, one
+structure (:class:`milp.branchprice.columns.Node`). Every coverage solution (elementary routes, one
 visit per KPOI) lies in one child. Depth first, imposing first (finds solutions early). A
 node whose arc flows are integral but whose :math:`\lambda` is not cannot be branched on;
 the search then ends unproven (status ``feasible``), never with a wrong claim.
@@ -67,7 +67,7 @@ Route enumeration
 -----------------
 A node whose LP bound ``z`` leaves a gap ``k - z`` below 1 route can be answered without
 branching: only routes of reduced cost at most the gap can be in a solution of at most
-``k`` routes, so :mod:`milp.enumeration` lists their KPOI sets (when there are not too
+``k`` routes, so :mod:`milp.branchprice.enumeration` lists their KPOI sets (when there are not too
 many) and a set-covering MIP over them (HiGHS) finds the node's fewest routes (Baldacci,
 Christofides and Mingozzi 2008; Baldacci, Mingozzi and Roberti 2011). Tried from the
 root down, for targets in :data:`ENUMERATION_ROUTES`, after the root's primal side (a
@@ -80,7 +80,7 @@ makespan; at the root that ends the search (below).
 Primal side: the incumbent comes from the caller (``warm_start``, e.g. parcover's
 ``best``), from integral master solutions, and from the master solved as an integer
 program over the pool (price-and-branch) at the root, and again below it whenever the
-pool has grown :data:`milp.tree.POOL_GROWTH` times.
+pool has grown :data:`milp.branchprice.tree.POOL_GROWTH` times.
 
 Least makespan with k routes
 ----------------------------
@@ -107,23 +107,23 @@ from scipy import sparse
 
 from milp.bounds import makespan_lower_bound as tree_makespan_bound
 from milp.bounds import robots_lower_bound as tree_robots_bound
-from milp import colgen, enumeration, ngroute
-from milp.columns import Node, Pool
-from milp.compiling import COMPILE_SECONDS, announce_compiling, compile_rarely_used, ready_within
-from milp.cuts import cut_memory, popcount, violated_triples
-from milp.highs import make_lp, new_highs
-from milp.merge import Merged, checked_start, merge_zero_distances, model_result
-from milp.result import MilpResult
-from milp.tree import ROUND, Decision, Improve, Settled, rounded_up
-from milp.routes import check_distance_matrix, first_visits, least_makespan, makespan
-from milp.sizes import BRANCHPRICE_MAX_KPOIS
+from milp.branchprice import colgen, enumeration, ngroute
+from milp.branchprice.columns import Node, Pool
+from milp.branchprice.compiling import COMPILE_SECONDS, announce_compiling, compile_rarely_used, ready_within
+from milp.branchprice.cuts import cut_memory, popcount, violated_triples
+from milp.core.highs import make_lp, new_highs
+from milp.core.merge import Merged, checked_start, merge_zero_distances, model_result
+from milp.core.result import MilpResult
+from milp.branchprice.tree import ROUND, Decision, Improve, Settled, rounded_up
+from milp.core.routes import check_distance_matrix, first_visits, least_makespan, makespan
+from milp.core.sizes import BRANCHPRICE_MAX_KPOIS
 from milp.warmstart import nearest_neighbour_order, split_min_makespan
 
 log = logging.getLogger(__name__)
 
 __all__ = ["min_robots", "min_makespan", "ready_within", "compile_pricing", "MAX_KPOIS", "COMPILE_SECONDS"]
 
-#: Largest number of (merged) KPOIs (:data:`milp.sizes.BRANCHPRICE_MAX_KPOIS`).
+#: Largest number of (merged) KPOIs (:data:`milp.core.sizes.BRANCHPRICE_MAX_KPOIS`).
 MAX_KPOIS = BRANCHPRICE_MAX_KPOIS
 #: Relative tolerance of certificates (round-off in sums of duals).
 CERT_TOL = 1e-9
@@ -138,7 +138,7 @@ BISECTION_SHARE, LP_BOUND_TOL = 0.25, 1e-4
 NG_BISECTION_FIRST = 0.25
 #: Share of the time left (and a cap in seconds) for each run of the integer master.
 MASTER_IP_SHARE, MASTER_IP_CAP = 0.1, 5.0
-#: Subset-row cuts added per round (at most :data:`milp.ngroute.MAX_CUTS` in all: the
+#: Subset-row cuts added per round (at most :data:`milp.branchprice.ngroute.MAX_CUTS` in all: the
 #: pricing's parity bits), and the least violation that counts.
 CUTS_PER_ROUND, CUT_VIOLATION = 8, 0.05
 #: A KPOI belongs to at most this many cuts' triples.
@@ -152,7 +152,7 @@ CUT_MIN_ROUTES = 6
 STRONG_CANDIDATES = 8
 #: A lambda or an arc flow within this of an integer counts as integral.
 INTEGRAL = 1e-6
-#: Route enumeration (:mod:`milp.enumeration`) at a node whose LP leaves a gap below
+#: Route enumeration (:mod:`milp.branchprice.enumeration`) at a node whose LP leaves a gap below
 #: this many routes ...
 ENUMERATION_GAP = 1.0
 #: ... for targets in this range of routes: with 2 the covering MIPs over long routes are
@@ -199,16 +199,16 @@ class _LpOutcome:
 
 class _Search:
     """Column generation and branching over one pool (merged matrix, route kind): the
-    :class:`milp.tree.Search` that :class:`milp.tree.Decision` drives."""
+    :class:`milp.branchprice.tree.Search` that :class:`milp.branchprice.tree.Decision` drives."""
 
-    def __init__(self, D: np.ndarray, *, tours: bool, stop_at: float | None) -> None:
+    def __init__(self, D: np.ndarray, *, tours: bool, ends_at: float | None) -> None:
         announce_compiling()
         self.m = len(D) - 1
         self.tours = tours
         self.pricing = ngroute.Pricing(D, tours=tours, ng_size=ngroute.NG_SIZE)
         self.pool = Pool(D, tours=tours)
         self.pool.add([np.array([j]) for j in range(1, self.m + 1)])
-        self.stop_at = stop_at
+        self.ends_at = ends_at
         self.nodes = 0
         compile_rarely_used()
         self.cuts: list[tuple[int, int, int]] = []
@@ -218,10 +218,10 @@ class _Search:
         self.makespan_bound = 0.0  # a lower bound on the least makespan (for min_makespan)
 
     def out_of_time(self) -> bool:
-        return self.stop_at is not None and time.perf_counter() >= self.stop_at
+        return self.ends_at is not None and time.perf_counter() >= self.ends_at
 
     def left(self) -> float | None:
-        return None if self.stop_at is None else max(self.stop_at - time.perf_counter(), 0.0)
+        return None if self.ends_at is None else max(self.ends_at - time.perf_counter(), 0.0)
 
     def price(self, prize: np.ndarray, budget: float, node: Node, *, exact: bool,
               threshold: float = 1.0, cuts: np.ndarray | None = None,
@@ -230,7 +230,7 @@ class _Search:
         """One pricing at ``node``, stopped by the search's time limit."""
         return self.pricing.price(prize, budget, allowed=node.allowed, can_end=node.allowed[:, 0],
                                   exact=exact, threshold=threshold,
-                                  stop_at=math.inf if self.stop_at is None else self.stop_at,
+                                  ends_at=math.inf if self.ends_at is None else self.ends_at,
                                   cuts=cuts, memories=memories, penalties=penalties)
 
     def _master(self, columns: list[int]) -> highspy.Highs:
@@ -514,7 +514,7 @@ class _Search:
         With ``first``, returns at the first solution found. ``improve``, when the root
         does not prove the incumbent, is asked once for routes meeting the root's bound.
         The integer master over the pool runs at the root and again below it whenever the
-        pool has grown :data:`milp.tree.POOL_GROWTH` times.
+        pool has grown :data:`milp.branchprice.tree.POOL_GROWTH` times.
 
         Returns
         -------
@@ -533,7 +533,7 @@ class _Search:
 
     def enumerate_node(self, node: Node, outcome: _LpOutcome, budget: float, target: int, *,
                    shortest: bool) -> tuple[_LpOutcome, Settled | None]:
-        """Answer ``node`` by route enumeration when its LP gap allows (:mod:`milp.enumeration`).
+        """Answer ``node`` by route enumeration when its LP gap allows (:mod:`milp.branchprice.enumeration`).
 
         The LP is first solved to the end (its duals then give the smallest gap
         ``target - z``); the sets whose route can be in a solution of at most ``target``
@@ -562,31 +562,31 @@ class _Search:
         if gap >= self.enumeration_gap:
             return outcome, None
         left = self.left()
-        until = math.inf if left is None else time.perf_counter() + ENUMERATION_SHARE * left
+        ends_at = math.inf if left is None else time.perf_counter() + ENUMERATION_SHARE * left
         family = enumeration.routes_within_gap(
             self.pricing.D, self.pricing.back, np.concatenate(([0.0], y[:self.m])), budget,
             1.0 - gap - ENUMERATION_SLACK, node.allowed, node.allowed[:, 0],
-            max_states=ENUMERATION_STATES, max_sets=ENUMERATION_SETS, stop_at=until)
+            max_states=ENUMERATION_STATES, max_sets=ENUMERATION_SETS, ends_at=ends_at)
         orders, lengths = family.maximal() if family is not None else ([], np.zeros(0))
         if family is None or len(orders) > ENUMERATION_MAXIMAL:  # gave up, or too large a MIP
             self.enumeration_gap = ENUMERATION_RETRY * gap
             return outcome, None
-        decided, routes = self._covering(orders, target, until)
+        decided, routes = self._covering(orders, target, ends_at)
         if not decided:
             return outcome, None
         self.pool.add(orders, lengths)
         if routes is None or not shortest:
             return outcome, Settled(routes)
-        routes, least = self._least_makespan_covering(family, routes, target, until)
+        routes, least = self._least_makespan_covering(family, routes, target, ends_at)
         return outcome, Settled(routes, least)
 
     def _covering(self, orders: list[np.ndarray], target: int,
-                  until: float) -> tuple[bool, list[list[int]] | None]:
+                  ends_at: float) -> tuple[bool, list[list[int]] | None]:
         """Set-covering MIP over ``orders``: ``(True, routes)`` with the fewest covering
         routes when at most ``target``, ``(True, None)`` when proven that none are,
-        ``(False, None)`` when HiGHS settled neither by ``until`` (a ``time.perf_counter()``
+        ``(False, None)`` when HiGHS settled neither by ``ends_at`` (a ``time.perf_counter()``
         value; inf: no limit)."""
-        seconds = None if math.isinf(until) else max(until - time.perf_counter(), 0.01)
+        seconds = None if math.isinf(ends_at) else max(ends_at - time.perf_counter(), 0.01)
         solve, routes = colgen.covering_solve(orders, self.m, seconds)
         if solve.status == "infeasible" or (solve.bound is not None and solve.bound > target + ROUND):
             return True, None
@@ -595,7 +595,7 @@ class _Search:
         return True, (routes if solve.objective <= target + ROUND else None)
 
     def _least_makespan_covering(self, family: enumeration.Family, routes: list[list[int]],
-                                 target: int, until: float) -> tuple[list[list[int]], bool]:
+                                 target: int, ends_at: float) -> tuple[list[list[int]], bool]:
         """From a covering of at most ``target`` sets of ``family``, one with the least
         makespan: bisection over the family's route lengths ``T``, each step the covering
         MIP over the sets maximal within ``T`` (:meth:`enumeration.Family.maximal`). Every
@@ -614,11 +614,11 @@ class _Search:
         low = int(np.searchsorted(lengths, self.makespan_bound))  # lengths[:low] are too short
         probe_below = True
         while (high := int(np.searchsorted(lengths, value * (1 - STRICT)))) > low:
-            if time.perf_counter() >= until:
+            if time.perf_counter() >= ends_at:
                 return routes, False
             middle = high - 1 if probe_below else (low + high) // 2
             probe_below = False
-            decided, better = self._covering(family.maximal(lengths[middle])[0], target, until)
+            decided, better = self._covering(family.maximal(lengths[middle])[0], target, ends_at)
             if not decided:
                 return routes, False
             if better is None:
@@ -662,7 +662,7 @@ def min_robots(
     D : numpy.ndarray
         ``(n+1, n+1)`` metric distance matrix, index 0 the start.
     deadline : float
-        The largest route cost allowed (shared tolerance of :func:`milp.routes.within`).
+        The largest route cost allowed (shared tolerance of :func:`milp.core.routes.within`).
     tours : bool
         Tours (return to 0) or open paths.
     time_limit : float, optional
@@ -688,8 +688,8 @@ def min_robots(
     if merged.size == 0:
         return model_result("optimal", merged, D, [], 1.0, 1.0, 0, began, "every KPOI at the start")
     budget = deadline * (1 + 1e-9) + 1e-9
-    stop_at = None if time_limit is None else began + time_limit
-    search = _Search(merged.D, tours=tours, stop_at=stop_at)
+    ends_at = None if time_limit is None else began + time_limit
+    search = _Search(merged.D, tours=tours, ends_at=ends_at)
     start = checked_start(merged, D, warm_start, tours=tours, deadline=deadline, k=None)
     if start is None:
         start = [[j] for j in range(1, merged.size + 1)]
@@ -730,13 +730,13 @@ def min_makespan(
     D, merged = _prepare(D)
     if merged.size == 0:
         return model_result("optimal", merged, D, [], 0.0, 0.0, 0, began, "every KPOI at the start")
-    stop_at = None if time_limit is None else began + time_limit
+    ends_at = None if time_limit is None else began + time_limit
     lower = max(least_makespan(D, tours=tours), tree_makespan_bound(merged.D, k, tours=tours, time_limit=time_limit))
     routes = checked_start(merged, D, warm_start, tours=tours, deadline=None, k=k)
     if routes is None:
         routes = split_min_makespan(merged.D, nearest_neighbour_order(merged.D), k, tours=tours)
     value = makespan(merged.D, routes, tours=tours)
-    search = _Search(merged.D, tours=tours, stop_at=stop_at)
+    search = _Search(merged.D, tours=tours, ends_at=ends_at)
     if value <= lower * (1 + 1e-9):
         return model_result("optimal", merged, D, routes, value, value, 0, began,
                        "warm start meets the lower bound")
@@ -745,7 +745,7 @@ def min_makespan(
     lower = search.makespan_bound = _makespan_lp_bound(
         search, k, lower, value, None if time_limit is None else began + BISECTION_SHARE * time_limit)
     log.info("branch-and-price: root LP bound %.6g (gap %s)", lower, _gap(value, lower))
-    search.stop_at = stop_at
+    search.ends_at = ends_at
     while not search.out_of_time():
         if value <= lower * (1 + 1e-9):
             return model_result("optimal", merged, D, routes, value, value, search.nodes, began,
@@ -773,13 +773,13 @@ def _gap(value: float, bound: float) -> str:
     return f"{100 * (value - bound) / value:.2f}%" if value > 0 else "0%"
 
 
-def _makespan_lp_bound(search: _Search, k: int, lower: float, upper: float, until: float | None) -> float:
-    """A certified lower bound on the least makespan by ``until`` (a ``time.perf_counter()``
+def _makespan_lp_bound(search: _Search, k: int, lower: float, upper: float, ends_at: float | None) -> float:
+    """A certified lower bound on the least makespan by ``ends_at`` (a ``time.perf_counter()``
     value; None: no limit), from ``lower`` (known too small) and ``upper`` (achievable).
 
     Bisection on the root LP over ng-routes (:func:`_bisect_lp_bound`) for
     :data:`NG_BISECTION_FIRST` of the time; when that has not converged (long routes, where
-    each LP takes many pricings), the bisection of :mod:`milp.colgen` over q-routes (its
+    each LP takes many pricings), the bisection of :mod:`milp.branchprice.colgen` over q-routes (its
     pricing a dynamic programme over discretised lengths) from that bound for half of what
     is left, then the ng-route bisection again from the larger bound. Each relaxation's
     bound is certified; neither contains the other. Measured (2026-11-26, tours, `best`'s
@@ -792,15 +792,15 @@ def _makespan_lp_bound(search: _Search, k: int, lower: float, upper: float, unti
     was lost). On n = 30-40 random instances (18 cells, 15 s) the ng-route bisection
     converges within a second and the q-route one is never run."""
     now = time.perf_counter()
-    search.stop_at = None if until is None else now + NG_BISECTION_FIRST * (until - now)
+    search.ends_at = None if ends_at is None else now + NG_BISECTION_FIRST * (ends_at - now)
     lower = _bisect_lp_bound(search, k, lower, upper)
     converged = not search.out_of_time()
-    search.stop_at = until
-    if converged or until is None:
+    search.ends_at = ends_at
+    if converged or ends_at is None:
         return lower
     now = time.perf_counter()
     lower = colgen.makespan_lower_bound(search.pricing.D, k, tours=search.tours, upper=upper,
-                                        time_limit=0.5 * (until - now), lower=lower)
+                                        time_limit=0.5 * (ends_at - now), lower=lower)
     return _bisect_lp_bound(search, k, lower, upper)
 
 

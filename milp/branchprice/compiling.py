@@ -1,8 +1,8 @@
 """Whether branch-and-price's compiled functions are ready, and compiling them.
 
-The pricing (:mod:`milp.ngroute`), the route listing (:mod:`milp.enumeration`) and the
-cut separation (:mod:`milp.cuts`) are numba functions, compiled on their first call and
-cached on disk (``cache=True``, in a folder :mod:`milp.jit` found writable) for later
+The pricing (:mod:`milp.branchprice.ngroute`), the route listing (:mod:`milp.branchprice.enumeration`) and the
+cut separation (:mod:`milp.branchprice.cuts`) are numba functions, compiled on their first call and
+cached on disk (``cache=True``, in a folder :mod:`milp.core.jit` found writable) for later
 processes. A process about to compile them says so once on stderr
 (:func:`announce_compiling`).
 """
@@ -14,8 +14,8 @@ import sys
 import numpy as np
 from numba.core.dispatcher import Dispatcher
 
-from milp import cuts, enumeration, ngroute
-from milp.jit import CACHE_FOLDER
+from milp.branchprice import cuts, enumeration, ngroute
+from milp.core.jit import CACHE_FOLDER
 
 __all__ = ["COMPILE_SECONDS", "ready_within", "compile_rarely_used", "jitted", "compiled", "announce_compiling",
            "COMPILING_MESSAGE"]
@@ -29,7 +29,7 @@ COMPILE_SECONDS = 20.0
 #: What :func:`announce_compiling` prints when numba's cache does not hold the functions.
 COMPILING_MESSAGE = ("parcover: compiling the branch-and-price pricing code once (about 10-20 s); "
                      "later runs load it from the cache")
-#: The same when no folder takes numba's cache (:data:`milp.jit.CACHE_FOLDER` is None).
+#: The same when no folder takes numba's cache (:data:`milp.core.jit.CACHE_FOLDER` is None).
 COMPILING_UNCACHED_MESSAGE = ("parcover: compiling the branch-and-price pricing code (about 10-20 s); no "
                               "folder is writable for numba's cache, so every run compiles it (set NUMBA_CACHE_DIR)")
 _announced = False

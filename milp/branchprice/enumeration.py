@@ -2,7 +2,7 @@ r"""Route enumeration: every route that can still be in a solution with at most 
 
 Branch-and-price (:mod:`milp.branchprice`) decides "at most ``k`` routes within ``U``" at
 a node whose LP bound ``z`` lies below ``k``. With duals :math:`\pi` that no route
-within ``U`` prices above 1 (Farley's scaling, :mod:`milp.colgen` eq. (4)), every route
+within ``U`` prices above 1 (Farley's scaling, :mod:`milp.branchprice.colgen` eq. (4)), every route
 has reduced cost :math:`\bar c_r = 1 - \pi(r) \ge 0`, and a solution of ``N`` routes
 partitioning the KPOIs has :math:`N = z + \sum_r \bar c_r` (:math:`z = \sum_i \pi_i`).
 So :math:`N \le k` needs :math:`\bar c_r \le k - z` for each of its routes: only the KPOI
@@ -22,7 +22,7 @@ Partial routes are grown one KPOI at a time, level by level (level ``q``: ``q`` 
 as states ``(S, j, l, p)``: KPOI set ``S``, last KPOI ``j``, length ``l``, prize
 ``p = pi(S)``. Of the states with the same ``(S, j)`` only the shortest is kept (every
 completion of the others completes it no longer). A state is dropped when ``p`` plus
-the completion bound of :mod:`milp.ngroute` (the most prize a walk without 2-cycles
+the completion bound of :mod:`milp.branchprice.ngroute` (the most prize a walk without 2-cycles
 from ``j`` can still collect within ``U - l``, an upper bound for every elementary
 tail) is below the threshold. A state that may end (the way home fits for tours, the
 node's branching lets it end at ``j``) with ``p`` at or above the threshold is a set of
@@ -49,8 +49,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from milp.jit import njit
-from milp.ngroute import _completion_table, _grid_step, _grow
+from milp.core.jit import njit
+from milp.branchprice.ngroute import _completion_table, _grid_step, _grow
 
 __all__ = ["Family", "routes_within_gap"]
 
@@ -92,7 +92,7 @@ def routes_within_gap(
     *,
     max_states: int,
     max_sets: int | None = None,
-    stop_at: float = math.inf,
+    ends_at: float = math.inf,
 ) -> Family | None:
     """Every KPOI set whose prize reaches ``threshold`` and which has a route within
     ``budget``, with its shortest route (module docstring).
@@ -113,7 +113,7 @@ def routes_within_gap(
     max_sets : int, optional
         ... or when more than this many (set, last KPOI) states reach the threshold (the
         maximal-set filter and the MIP grow with them).
-    stop_at : float
+    ends_at : float
         A ``time.perf_counter()`` value; None is returned once it passes (read between levels).
 
     Returns
@@ -128,7 +128,7 @@ def routes_within_gap(
         return None  # no completion bound: the listing would not be pruned
     delta, G = grid
     dd = np.floor(D / delta).astype(np.int64)
-    table = _completion_table(dd, np.floor(back / delta).astype(np.int64), prize, allowed, can_end, G, stop_at)
+    table = _completion_table(dd, np.floor(back / delta).astype(np.int64), prize, allowed, can_end, G, ends_at)
     if table is None:
         return None
     sets = np.zeros((1, words), np.uint64)
@@ -143,7 +143,7 @@ def routes_within_gap(
         sets[np.arange(len(last)), last // 64] |= np.left_shift(np.uint64(1), (last % 64).astype(np.uint64))
         sets, last, length, gained, parent = _shortest_per_end(sets, last, length, gained, parent)
         total += len(last)
-        if total > max_states or time.perf_counter() >= stop_at:
+        if total > max_states or time.perf_counter() >= ends_at:
             return None
         levels.append((parent, last))
         ends = np.flatnonzero((gained >= threshold) & can_end[last])
@@ -154,7 +154,7 @@ def routes_within_gap(
             found.append((len(levels) - 1, ends, sets[ends], length[ends] + back[last[ends]]))
     if not found:
         return Family(np.zeros(0), np.zeros(0), levels, np.zeros((0, 2), np.int64))
-    if time.perf_counter() >= stop_at:
+    if time.perf_counter() >= ends_at:
         return None
     family = np.concatenate([f[2] for f in found])
     lengths = np.concatenate([f[3] for f in found])

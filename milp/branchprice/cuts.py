@@ -2,15 +2,15 @@
 
 A cut on a triple :math:`S` of KPOIs says that at most one route visits two of them
 (Jepsen, Petersen, Spoorendonk and Pisinger 2008); the coefficients a route gets, with a
-cut's limited memory, are :func:`milp.ngroute.cut_coefficients`.
+cut's limited memory, are :func:`milp.branchprice.ngroute.cut_coefficients`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from milp.jit import njit
-from milp.ngroute import MAX_CUTS
+from milp.core.jit import njit
+from milp.branchprice.ngroute import MAX_CUTS
 
 __all__ = ["violated_triples", "popcount", "cut_memory"]
 
@@ -19,7 +19,7 @@ __all__ = ["violated_triples", "popcount", "cut_memory"]
 def violated_triples(counts, x, least):  # pragma: no cover - compiled
     """Triples ``(a, b, c)`` (0-based KPOIs) whose subset-row cut (5) is violated by more
     than ``least``: ``sum_r x_r floor((counts_ra + counts_rb + counts_rc) / 2) > 1``,
-    most violated first, at most :data:`milp.ngroute.MAX_CUTS` (all the pricing can carry)."""
+    most violated first, at most :data:`milp.branchprice.ngroute.MAX_CUTS` (all the pricing can carry)."""
     m = counts.shape[1]
     found = np.zeros((0, 4))
     rows = []

@@ -43,10 +43,10 @@ def log_to_stderr(names: tuple[str, ...] = LOGGERS, *, stream: TextIO | None = N
     with the seconds since ``epoch`` (default now). Calling it again replaces the handler."""
     handler = logging.StreamHandler(sys.stderr if stream is None else stream)
     handler.setFormatter(_ElapsedFormatter(time.time() if epoch is None else epoch, prefix))
-    handler.set_name("milp.progress")
+    handler.set_name("milp.core.progress")
     for name in names:
         logger = logging.getLogger(name)
-        for old in [h for h in logger.handlers if h.get_name() == "milp.progress"]:
+        for old in [h for h in logger.handlers if h.get_name() == "milp.core.progress"]:
             logger.removeHandler(old)
         logger.addHandler(handler)
         logger.setLevel(logging.INFO)

@@ -8,7 +8,7 @@ eliminates subtours.
 Notation
 --------
 Node 0 is the start, :math:`N = \{1..m\}` the KPOIs *after merging* KPOIs at distance 0
-(see :mod:`milp.merge`), :math:`E` an end node: the sink of open paths with
+(see :mod:`milp.core.merge`), :math:`E` an end node: the sink of open paths with
 :math:`d_{iE} = 0`, or the return to the start with :math:`d_{iE} = d_{i0}` for tours.
 Arcs :math:`A`: :math:`(0, j)` for :math:`j \in N`; :math:`(i, j)` for
 :math:`i \ne j \in N`; :math:`(i, E)` for :math:`i \in N`. :math:`r_j = 0` for paths,
@@ -42,7 +42,7 @@ arrival at the head of :math:`a`), :math:`T` (makespan, ``min_makespan`` only).
 Objective: minimise :math:`T` (``min_makespan``) or :math:`\sum_{a\in\delta^+(0)} x_a`
 (``min_robots``, where the deadline enters through (5) with :math:`U` = deadline;
 :math:`Q` is the spanning-tree bound of :func:`robots_lower_bound` in :func:`build_model`,
-the column-generation bound of :mod:`milp.colgen` in :func:`min_robots`).
+the column-generation bound of :mod:`milp.branchprice.colgen` in :func:`min_robots`).
 
 Why it is exact. (2) makes the used arcs a set of node-disjoint paths from 0 to E plus
 possibly cycles inside N. Summing (3) around a cycle inside N gives
@@ -53,7 +53,7 @@ bounded by (5) and (6). (5)'s lower bound holds because the distance on arrival 
 via i is at least :math:`d_{0i} + d_{ij}` (triangle inequality). (7) is valid because the
 total length of all routes is at most (number of routes) x (largest route); the same
 spanning-tree argument bounds the number of routes from below in (1), and so does the
-stronger certified bound of :mod:`milp.colgen` (the LP over routes), which min_robots
+stronger certified bound of :mod:`milp.branchprice.colgen` (the LP over routes), which min_robots
 uses for ``Q``; min_makespan reports colgen's makespan bound when HiGHS stops unproven
 (as a hard bound on T inside the model it slows HiGHS down). (8): every
 KPOI is at distance at most the makespan from the start (twice for tours), and the
@@ -72,12 +72,12 @@ import highspy
 import numpy as np
 from scipy import sparse
 
-from milp import colgen
+from milp.branchprice import colgen
 from milp.bounds import makespan_lower_bound, robots_lower_bound
-from milp.highs import BOUND_SLACK, LpSolve, make_lp, solve_lp, write_model
-from milp.merge import Merged, merge_zero_distances
-from milp.result import MilpResult, relative_gap
-from milp.routes import (
+from milp.core.highs import BOUND_SLACK, LpSolve, make_lp, solve_lp, write_model
+from milp.core.merge import Merged, merge_zero_distances
+from milp.core.result import MilpResult, relative_gap
+from milp.core.routes import (
     check_distance_matrix,
     check_routes,
     least_makespan,
@@ -85,7 +85,7 @@ from milp.routes import (
     route_cost,
     within,
 )
-from milp.deadline import Deadline, TimeLimit
+from milp.core.timelimit import TimeLimit, TimeLimitLike
 from milp.warmstart import good_makespan_routes, nearest_neighbour_order, split_fits, split_min_robots
 
 
@@ -143,7 +143,7 @@ class ArcModel:
         return len(self.tail)
 
     def write(self, path: str | Path) -> Path:
-        """Export the model to ``.mps`` or ``.lp`` (see :func:`milp.highs.write_model`)."""
+        """Export the model to ``.mps`` or ``.lp`` (see :func:`milp.core.highs.write_model`)."""
         return write_model(self.lp, path)
 
     def start_vector(self, routes: list[list[int]]) -> np.ndarray:
@@ -353,7 +353,7 @@ def min_makespan(
     k: int,
     *,
     tours: bool,
-    time_limit: TimeLimit = None,
+    time_limit: TimeLimitLike = None,
     warm_start: list[list[int]] | None = None,
 ) -> MilpResult:
     """Least makespan with at most ``k`` robots.
@@ -366,7 +366,7 @@ def min_makespan(
         Robots available (at least 1; fewer may be used).
     tours : bool
         Tours (return to 0) or open paths.
-    time_limit : float or milp.deadline.Deadline, optional
+    time_limit : float or milp.core.timelimit.TimeLimit, optional
         Seconds for the whole call (heuristic, model, HiGHS, column-generation bound),
         or a deadline shared with the caller; None for no limit. When the rest of the
         limit cannot cover building the model (:func:`_model_fits`), the heuristic's
@@ -380,7 +380,7 @@ def min_makespan(
         ``objective`` is the makespan.
     """
     began = time.perf_counter()
-    clock = Deadline.of(time_limit)
+    time_limit = TimeLimit.of(time_limit)
     D = check_distance_matrix(D)
     if k < 1:
         raise ValueError("k must be at least 1")
@@ -389,40 +389,40 @@ def min_makespan(
         raise ValueError(f"warm start has more than k={k} routes")
     if merged.size == 0:
         return _proven(D, merged.expand([]), tours, 0.0, began, "every KPOI is at the start")
-    start = _best_makespan_start(merged, k, tours, warm_start, clock.fraction(HEURISTIC_SHARE))
+    start = _best_makespan_start(merged, k, tours, warm_start, time_limit.fraction(HEURISTIC_SHARE))
     upper = makespan(merged.D, start, tours=tours)
-    L = makespan_lower_bound(merged.D, k, tours=tours, time_limit=clock.remaining())
+    L = makespan_lower_bound(merged.D, k, tours=tours, time_limit=time_limit.remaining())
     if upper <= L * (1 + BOUND_SLACK * 1e-3):
         return _proven(D, merged.expand(start), tours, L, began, "warm start meets the lower bound")
     arcs = int(np.count_nonzero(_kept(merged.D, tours=tours, U=upper)))
-    if not _model_fits(arcs, "makespan", clock):
+    if not _model_fits(arcs, "makespan", time_limit):
         routes = merged.expand(start)
         return _unsolved(D, routes, makespan(D, routes, tours=tours), L, began, arcs)
     model = _assemble(merged, tours=tours, U=upper, k=k)
-    solve = solve_lp(model.lp, time_limit=_highs_seconds(clock, arcs, "makespan", BOUND_SHARE),
+    solve = solve_lp(model.lp, time_limit=_highs_seconds(time_limit, arcs, "makespan", BOUND_SHARE),
                      start=model.start_vector(start), options=SEARCH_OPTIONS)
-    if solve.status != "optimal" and not clock.expired():
+    if solve.status != "optimal" and not time_limit.expired():
         # The compact LP bound is weak (milp/README.md): column generation's is far stronger.
         # Computed only now, because as a hard bound on T it slows HiGHS down.
         incumbent = min(upper, solve.objective if solve.objective is not None else upper)
-        L = max(L, colgen.makespan_lower_bound(merged.D, k, tours=tours, upper=incumbent, time_limit=clock))
+        L = max(L, colgen.makespan_lower_bound(merged.D, k, tours=tours, upper=incumbent, time_limit=time_limit))
     return _makespan_result(D, model, solve, start, L, began)
 
 
-def _model_fits(arcs: int, objective: str, clock: Deadline) -> bool:
+def _model_fits(arcs: int, objective: str, time_limit: TimeLimit) -> bool:
     """Whether the rest of the time limit covers twice the set-up of a model of ``arcs``
     arcs for ``objective`` (assembly and HiGHS' uninterrupted presolve,
     :data:`SETUP_SECONDS_PER_ARC` and :data:`OVERRUN_SECONDS_PER_ARC`), so that HiGHS
     gets to search."""
-    left = clock.remaining()
+    left = time_limit.remaining()
     per_arc = SETUP_SECONDS_PER_ARC + OVERRUN_SECONDS_PER_ARC[objective]
     return left is None or left >= 2 * arcs * per_arc
 
 
-def _highs_seconds(clock: Deadline, arcs: int, objective: str, reserve_share: float = 0.0) -> float | None:
+def _highs_seconds(time_limit: TimeLimit, arcs: int, objective: str, reserve_share: float = 0.0) -> float | None:
     """HiGHS' time limit: the rest of ``clock`` less ``reserve_share`` of it (kept for
     later work) and less HiGHS' expected overrun on a model of ``arcs`` arcs."""
-    left = clock.remaining()
+    left = time_limit.remaining()
     if left is None:
         return None
     return max((1 - reserve_share) * left - arcs * OVERRUN_SECONDS_PER_ARC[objective], 0.0)
@@ -442,10 +442,10 @@ def _unsolved(
 
 def _best_makespan_start(
     merged: Merged, k: int, tours: bool, warm_start: list[list[int]] | None,
-    clock: Deadline,
+    time_limit: TimeLimit,
 ) -> list[list[int]]:
     """The better of the given warm start and the heuristic solution (model space)."""
-    candidates = [good_makespan_routes(merged.D, k, tours=tours, seconds=clock)]
+    candidates = [good_makespan_routes(merged.D, k, tours=tours, time_limit=time_limit)]
     if warm_start is not None:
         candidates.append(merged.reduce(warm_start))
     return min(candidates, key=lambda routes: makespan(merged.D, routes, tours=tours))
@@ -475,7 +475,7 @@ def min_robots(
     deadline: float,
     *,
     tours: bool,
-    time_limit: TimeLimit = None,
+    time_limit: TimeLimitLike = None,
     warm_start: list[list[int]] | None = None,
 ) -> MilpResult:
     """Fewest robots whose routes all meet ``deadline``.
@@ -488,7 +488,7 @@ def min_robots(
         Largest allowed route cost ``U`` (tolerance ``U (1 + 1e-9) + 1e-9``).
     tours : bool
         Tours (return to 0) or open paths.
-    time_limit : float or milp.deadline.Deadline, optional
+    time_limit : float or milp.core.timelimit.TimeLimit, optional
         Seconds for the whole call (column generation, heuristic, model, HiGHS), or a
         deadline shared with the caller; None for no limit. When the rest of the limit
         cannot cover building the model (:func:`_model_fits`), the heuristic's routes are
@@ -503,7 +503,7 @@ def min_robots(
         solver) when the deadline is below ``c_max`` (paths) / ``2 c_max`` (tours).
     """
     began = time.perf_counter()
-    clock = Deadline.of(time_limit)
+    time_limit = TimeLimit.of(time_limit)
     D = check_distance_matrix(D)
     L = least_makespan(D, tours=tours)
     if not within(L, deadline):
@@ -516,19 +516,19 @@ def min_robots(
             raise ValueError("a warm-start route exceeds the deadline")
     if merged.size == 0:
         return _proven(D, merged.expand([]), tours, 1, began, "every KPOI is at the start")
-    info = colgen.robots_bound(merged.D, deadline, tours=tours, time_limit=clock.fraction(HEURISTIC_SHARE),
+    info = colgen.robots_bound(merged.D, deadline, tours=tours, time_limit=time_limit.fraction(HEURISTIC_SHARE),
                                routes=True)
     fewest = info.robots()
     given = [info.routes] + ([merged.reduce(warm_start)] if warm_start is not None else [])
-    start = _robots_start(merged, deadline, fewest, tours, given, clock.fraction(HEURISTIC_SHARE))
+    start = _robots_start(merged, deadline, fewest, tours, given, time_limit.fraction(HEURISTIC_SHARE))
     if len(start) <= fewest:
         return _proven(D, merged.expand(start), tours, len(start), began,
                        "heuristic meets the column-generation bound")
     arcs = int(np.count_nonzero(_kept(merged.D, tours=tours, U=float(deadline))))
-    if not _model_fits(arcs, "robots", clock):
+    if not _model_fits(arcs, "robots", time_limit):
         return _unsolved(D, merged.expand(start), float(len(start)), float(fewest), began, arcs)
     model = _assemble(merged, tours=tours, U=float(deadline), k=None, fewest=fewest)
-    solve = solve_lp(model.lp, time_limit=_highs_seconds(clock, arcs, "robots"),
+    solve = solve_lp(model.lp, time_limit=_highs_seconds(time_limit, arcs, "robots"),
                      start=model.start_vector(start), options=SEARCH_OPTIONS)
     if solve.status == "infeasible":
         raise AssertionError("HiGHS reports infeasible although the warm start is valid")
@@ -544,7 +544,7 @@ def min_robots(
 
 def _robots_start(
     merged: Merged, deadline: float, fewest: int, tours: bool,
-    given: list[list[list[int]]], clock: Deadline,
+    given: list[list[list[int]]], time_limit: TimeLimit,
 ) -> list[list[int]]:
     """Fewest routes found by the heuristics and the ``given`` solutions, model space.
 
@@ -558,9 +558,9 @@ def _robots_start(
     candidates = [split_min_robots(merged.D, order, deadline, tours=tours)]
     candidates += [routes for routes in given if routes]
     for q in range(fewest, min(map(len, candidates))):
-        if clock.expired() or not split_fits(merged.size, q, clock):
+        if time_limit.expired() or not split_fits(merged.size, q, time_limit):
             break  # q only grows (at 3000 KPOIs the split into 41 routes alone takes 0.7 s)
-        routes = good_makespan_routes(merged.D, q, tours=tours, seconds=clock)
+        routes = good_makespan_routes(merged.D, q, tours=tours, time_limit=time_limit)
         if within(makespan(merged.D, routes, tours=tours), deadline):
             candidates.append(routes)
             break

@@ -19,8 +19,8 @@ import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import connected_components
 
-from milp.result import MilpResult, relative_gap
-from milp.routes import route_cost, within
+from milp.core.result import MilpResult, relative_gap
+from milp.core.routes import route_cost, within
 
 #: Distances at most ``ZERO * max(1, D.max())`` are treated as 0.
 ZERO = 1e-12
@@ -125,7 +125,7 @@ def checked_start(merged: Merged, D: np.ndarray, routes: list[list[int]] | None,
 def model_result(status: str, merged: Merged, D: np.ndarray, routes: list[list[int]] | None,
                  objective: float | None, bound: float | None, nodes: int, began: float,
                  message: str) -> MilpResult:
-    """A model's answer over merged indices as a :class:`~milp.result.MilpResult` over the
+    """A model's answer over merged indices as a :class:`~milp.core.result.MilpResult` over the
     original KPOIs (an optimal answer's bound is its objective, its gap 0)."""
     expanded = merged.expand(routes) if routes is not None else []
     gap = relative_gap(objective, bound)

@@ -1,7 +1,7 @@
 """numba's ``njit`` with an on-disk cache wherever parcover is installed.
 
-``@njit(cache=True)`` functions (:mod:`milp.ngroute`, :mod:`milp.enumeration`,
-:mod:`milp.cuts`) are compiled once and loaded by later processes from numba's cache.
+``@njit(cache=True)`` functions (:mod:`milp.branchprice.ngroute`, :mod:`milp.branchprice.enumeration`,
+:mod:`milp.branchprice.cuts`) are compiled once and loaded by later processes from numba's cache.
 numba writes it to the first writable of: ``NUMBA_CACHE_DIR``; the ``__pycache__``
 folder next to the source (a user's own install); the user's cache folder
 (``$XDG_CACHE_HOME/numba`` or ``~/.cache/numba``; a system-wide install). When none of

@@ -4,7 +4,7 @@ The column-generation master of :mod:`milp.branchprice` asks, for KPOI prizes
 :math:`\pi_i \ge 0` (its duals), for routes from the start 0 whose length is at most
 :math:`U` and whose prize :math:`\sum_{i} a_{ir} \pi_i` exceeds 1 (a negative reduced
 cost, the column cost being 1), and for the largest prize :math:`M` over all such routes
-(the certificate of :mod:`milp.colgen`, eq. (4): :math:`\sum_i \pi_i / \max(M, 1)` is a
+(the certificate of :mod:`milp.branchprice.colgen`, eq. (4): :math:`\sum_i \pi_i / \max(M, 1)` is a
 lower bound on the LP). This is an elementary orienteering problem; it is relaxed to
 *ng-routes* (Baldacci, Mingozzi and Roberti 2011, "New route relaxation and pricing
 strategies for the vehicle routing problem", Oper. Res. 59(5), 1269-1283,
@@ -102,7 +102,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import objmode
 
-from milp.jit import njit
+from milp.core.jit import njit
 
 __all__ = ["Pricing", "PricingResult", "cut_coefficients", "ng_memories", "NG_SIZE", "MAX_GRID", "MAX_CUTS"]
 
@@ -169,7 +169,7 @@ class Pricing:
     ----------
     D : numpy.ndarray
         ``(m+1, m+1)`` metric with every off-diagonal distance positive (merge zero
-        distances first, :func:`milp.merge.merge_zero_distances`).
+        distances first, :func:`milp.core.merge.merge_zero_distances`).
     tours : bool
         Tours (the budget includes the way back) or paths.
     ng_size : int
@@ -197,7 +197,7 @@ class Pricing:
         exact: bool,
         threshold: float = 1.0,
         max_routes: int = 60,
-        stop_at: float = math.inf,
+        ends_at: float = math.inf,
         cuts: np.ndarray | None = None,
         memories: np.ndarray | None = None,
         penalties: np.ndarray | None = None,
@@ -220,7 +220,7 @@ class Pricing:
             Only routes with a larger prize are returned.
         max_routes : int
             At most this many routes, the most valuable first.
-        stop_at : float
+        ends_at : float
             A ``time.perf_counter()`` value: the labelling stops there (checked every
             :data:`CLOCK_EVERY` units of work), and ``best`` is then not
             certified.
@@ -245,14 +245,14 @@ class Pricing:
             delta, G = grid
             dd = np.floor(self.D / delta).astype(np.int64)
             back = np.floor(self.back / delta).astype(np.int64)
-            table = _completion_table(dd, back, prize, allowed, can_end, G, stop_at)
+            table = _completion_table(dd, back, prize, allowed, can_end, G, ends_at)
             if table is None:  # the clock stopped it
                 return PricingResult(float(threshold), [], False, 0)
         total = 0
         while True:
             best, ends, parents, nodes, work, complete = _label(
                 self.D, self.back, prize, self.remembered if exact else self.memories, allowed,
-                can_end, budget, table, delta, G, threshold, exact, stop_at, cuts, memories,
+                can_end, budget, table, delta, G, threshold, exact, ends_at, cuts, memories,
                 penalties,
             )
             total += work
@@ -307,9 +307,9 @@ def _trace(label: int, parents: np.ndarray, nodes: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def _completion_table(dd, back, prize, allowed, can_end, G, stop_at):  # pragma: no cover - compiled
+def _completion_table(dd, back, prize, allowed, can_end, G, ends_at):  # pragma: no cover - compiled
     """``g(b, j)`` of the module docstring for ``b = 0..G`` (``-inf``: cannot end), over
-    walks without 2-cycles, or None when the clock passes ``stop_at`` first (read every
+    walks without 2-cycles, or None when the clock passes ``ends_at`` first (read every
     :data:`CLOCK_EVERY` steps).
 
     Each ``(b, j)`` keeps its best value, the KPOI that walk goes to next (0: it ends),
@@ -327,7 +327,7 @@ def _completion_table(dd, back, prize, allowed, can_end, G, stop_at):  # pragma:
             work = 0
             with objmode(now="float64"):
                 now = time.perf_counter()
-            if now >= stop_at:
+            if now >= ends_at:
                 return None
         for j in range(1, m1):
             best = 0.0 if (can_end[j] and back[j] <= b) else -np.inf
@@ -403,7 +403,7 @@ def _dominated_on_arrival(vals, labs, filled, value, parity, bits, sigma):  # pr
 
 @njit(cache=True)
 def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, threshold, exact,
-           stop_at, cuts, keep, sigma):  # pragma: no cover - compiled
+           ends_at, cuts, keep, sigma):  # pragma: no cover - compiled
     """Forward labelling (module docstring). Returns ``(best, ends, parents, nodes,
     work, complete)``: ``ends`` rows ``(label, prize)`` of routes above ``threshold``.
 
@@ -412,7 +412,7 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
     runs against those already extended only, kept per node by decreasing prize (only a
     prefix can dominate). ``work`` counts labels, dominance tests and the candidates of
     each extension; every :data:`CLOCK_EVERY` of them the clock is read, and at
-    ``stop_at`` the labelling stops (``complete`` False).
+    ``ends_at`` the labelling stops (``complete`` False).
     """
     m1 = D.shape[0]
     W = memories.shape[1]
@@ -447,7 +447,7 @@ def _label(D, back, prize, memories, allowed, can_end, U, table, delta, G, thres
             clock = work + CLOCK_EVERY
             with objmode(now="float64"):
                 now = time.perf_counter()
-            if now >= stop_at:
+            if now >= ends_at:
                 complete = False
                 break
         lab = hval[0]

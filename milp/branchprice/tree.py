@@ -5,7 +5,7 @@
 of :mod:`milp.branchprice` is one): each node is solved by column generation
 (:meth:`Search.solve_node`), closed by its certified bound rounded up
 (:func:`rounded_up`), answered by route enumeration (:class:`Settled`) or by an integral
-master, or split on an arc flow (:meth:`milp.columns.Node.children`). The primal side runs
+master, or split on an arc flow (:meth:`milp.branchprice.columns.Node.children`). The primal side runs
 here too: the integer master over the pool at the root and whenever the pool has grown
 :data:`POOL_GROWTH` times, and the caller's ``improve`` heuristic once at the root.
 """
@@ -18,7 +18,7 @@ from collections.abc import Callable, Sized
 from dataclasses import dataclass
 from typing import Any, Protocol, TypeVar
 
-from milp.columns import Node
+from milp.branchprice.columns import Node
 
 log = logging.getLogger(__name__)
 

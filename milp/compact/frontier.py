@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from milp import arcflow
-from milp.result import MilpResult
-from milp.routes import check_distance_matrix, least_makespan, within
+from milp.compact import arcflow
+from milp.core.result import MilpResult
+from milp.core.routes import check_distance_matrix, least_makespan, within
 
 
 def frontier(D: np.ndarray, *, tours: bool, time_limit: float | None = None) -> list[MilpResult]:
@@ -28,7 +28,7 @@ def frontier(D: np.ndarray, *, tours: bool, time_limit: float | None = None) -> 
     Returns
     -------
     list of MilpResult
-        Entry ``k - 1`` is :func:`milp.arcflow.min_makespan` for ``k`` robots.
+        Entry ``k - 1`` is :func:`milp.compact.arcflow.min_makespan` for ``k`` robots.
     """
     D = check_distance_matrix(D)
     least = least_makespan(D, tours=tours)

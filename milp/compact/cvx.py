@@ -1,8 +1,8 @@
-r"""The arc-flow model of :mod:`milp.arcflow`, written in cvxpy to be read.
+r"""The arc-flow model of :mod:`milp.compact.arcflow`, written in cvxpy to be read.
 
-Same notation and constraint numbers as the :mod:`milp.arcflow` docstring; no arc
+Same notation and constraint numbers as the :mod:`milp.compact.arcflow` docstring; no arc
 pruning and no warm start (``warm_start`` is accepted and ignored). The only data
-preparation is the merge of KPOIs at distance 0 (:mod:`milp.merge`), without which
+preparation is the merge of KPOIs at distance 0 (:mod:`milp.core.merge`), without which
 zero-length cycles would satisfy the distance flow (3). The ``U`` of (5) for
 ``min_makespan`` is the makespan of the nearest-neighbour split of
 :mod:`milp.warmstart` with ``k`` routes: a valid solution, so no optimal route is longer.
@@ -19,10 +19,10 @@ import time
 import cvxpy as cp
 import numpy as np
 
-from milp.highs import MIP_ABS_GAP, MIP_REL_GAP, THREADS
-from milp.merge import Merged, merge_zero_distances
-from milp.result import MilpResult, relative_gap
-from milp.routes import check_distance_matrix, least_makespan, makespan, within
+from milp.core.highs import MIP_ABS_GAP, MIP_REL_GAP, THREADS
+from milp.core.merge import Merged, merge_zero_distances
+from milp.core.result import MilpResult, relative_gap
+from milp.core.routes import check_distance_matrix, least_makespan, makespan, within
 from milp.warmstart import nearest_neighbour_order, split_min_makespan
 
 #: Seconds per arc (``(m + 1)^2`` of them) for cvxpy to compile the model and HiGHS to
@@ -119,7 +119,7 @@ def min_makespan(
 ) -> MilpResult:
     """Least makespan with at most ``k`` robots (cvxpy arc-flow model).
 
-    Same parameters and result as :func:`milp.arcflow.min_makespan`.
+    Same parameters and result as :func:`milp.compact.arcflow.min_makespan`.
     """
     began = time.perf_counter()
     D = check_distance_matrix(D)
@@ -154,7 +154,7 @@ def min_robots(
 ) -> MilpResult:
     """Fewest robots whose routes all meet ``deadline`` (cvxpy arc-flow model).
 
-    Same parameters and result as :func:`milp.arcflow.min_robots`.
+    Same parameters and result as :func:`milp.compact.arcflow.min_robots`.
     """
     began = time.perf_counter()
     D = check_distance_matrix(D)

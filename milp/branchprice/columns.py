@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import sparse
 
-from milp.routes import route_cost
+from milp.core.routes import route_cost
 
 __all__ = ["Pool", "Node"]
 

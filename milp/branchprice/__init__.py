@@ -1,0 +1,29 @@
+"""Branch-and-price over ng-routes: fewest routes within a deadline, least makespan with k.
+
+- :mod:`~milp.branchprice.search`: the search (:func:`min_robots`, :func:`min_makespan`): column
+  generation at each node, branching, the makespan as a sequence of fewest-routes decisions.
+- :mod:`~milp.branchprice.tree`: the tree of one fewest-routes decision.
+- :mod:`~milp.branchprice.ngroute`: the pricing, by labelling over ng-routes (numba).
+- :mod:`~milp.branchprice.columns`: the column pool and the branching nodes.
+- :mod:`~milp.branchprice.cuts`: separation of the subset-row cuts.
+- :mod:`~milp.branchprice.enumeration`: every route that can still be in a solution, once the
+  gap is small.
+- :mod:`~milp.branchprice.colgen`: certified lower bounds from column generation alone, for
+  instances too large to prove.
+- :mod:`~milp.branchprice.compiling`: whether the compiled functions are ready, and compiling them.
+"""
+
+import importlib
+from typing import Any
+
+__all__ = ["min_robots", "min_makespan", "ready_within", "compile_pricing", "MAX_KPOIS", "COMPILE_SECONDS"]
+
+
+def __getattr__(name: str) -> Any:
+    """The search's public names, loaded on first use (PEP 562): importing
+    :mod:`~milp.branchprice.colgen` alone does not load numba's labelling."""
+    if name not in __all__:
+        raise AttributeError(f"module 'milp.branchprice' has no attribute {name!r}")
+    value = getattr(importlib.import_module("milp.branchprice.search"), name)
+    globals()[name] = value
+    return value

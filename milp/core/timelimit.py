@@ -1,0 +1,77 @@
+"""One time limit shared by every phase of a solve: the wall clock, by its own name.
+
+A time limit is turned into a :class:`TimeLimit` once, where the work begins (the CLI's
+``solve`` command before it reads the instance, or :func:`parcover.solve`), and that
+object is handed down: the warm start, the bounds, column generation, model building,
+HiGHS and the verifier all ask it how much time is :meth:`~TimeLimit.remaining`, so
+their shares add up to the limit instead of each phase starting its own clock.
+
+Functions that take ``time_limit`` accept a number of seconds (counted from the call)
+or a :class:`TimeLimit` (shared with the caller); :meth:`TimeLimit.of` reads either. The
+moment it ends is :attr:`TimeLimit.ends_at`; code that reads the clock itself (numba's
+labelling) takes that number, under the same name. *Deadline* is kept for the problem's
+coverage deadline (the paper's :math:`c_p`), never for the wall clock.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Union
+
+__all__ = ["TimeLimit", "TimeLimitLike"]
+
+
+class TimeLimit:
+    """The moment (on :func:`time.perf_counter`'s clock) by which work must end.
+
+    Parameters
+    ----------
+    seconds : float or None
+        Time from now; ``None`` for no limit (:meth:`remaining` is then ``None`` and
+        :meth:`expired` never true).
+    """
+
+    __slots__ = ("ends_at", "seconds")
+
+    def __init__(self, seconds: float | None) -> None:
+        self.seconds = None if seconds is None else float(seconds)
+        self.ends_at = None if seconds is None else time.perf_counter() + float(seconds)
+
+    @classmethod
+    def of(cls, limit: TimeLimitLike) -> TimeLimit:
+        """``limit`` itself when it is a TimeLimit, else a new one ``limit`` seconds from now."""
+        return limit if isinstance(limit, TimeLimit) else cls(limit)
+
+    @property
+    def unlimited(self) -> bool:
+        """Whether there is no limit at all."""
+        return self.ends_at is None
+
+    def remaining(self) -> float | None:
+        """Seconds left (never negative), or ``None`` without a limit."""
+        return None if self.ends_at is None else max(self.ends_at - time.perf_counter(), 0.0)
+
+    def expired(self) -> bool:
+        """Whether the time is spent."""
+        return self.ends_at is not None and time.perf_counter() >= self.ends_at
+
+    def fraction(self, share: float) -> TimeLimit:
+        """A time limit ending after ``share`` (0 to 1) of the time now remaining."""
+        left = self.remaining()
+        return TimeLimit(None if left is None else share * left)
+
+    def earlier(self, seconds: float) -> TimeLimit:
+        """A time limit ending ``seconds`` before this one (for work that must follow)."""
+        left = self.remaining()
+        return TimeLimit(None if left is None else max(left - seconds, 0.0))
+
+    def __repr__(self) -> str:
+        left = self.remaining()
+        return "TimeLimit(unlimited)" if left is None else f"TimeLimit({left:.3f} s left)"
+
+
+#: What a ``time_limit`` parameter accepts: seconds from the call, a shared :class:`TimeLimit`, or none.
+TimeLimitLike = Union[float, int, TimeLimit, None]
+
+#: The former name of :class:`TimeLimit` (``milp.deadline.Deadline``), kept for old imports.
+Deadline = TimeLimit
