@@ -63,7 +63,7 @@ __all__ = [
     "shrink",
     "instance_size",
     "render_table",
-    "render_report",
+    "render_verdicts",
 ]
 
 Progress = Callable[[str], None]
@@ -465,7 +465,7 @@ def props(
         header = _header(command or _default_command(seed, quick, time_limit, exact, greedy, out_dir, report_path),
                          seed, quick, time_limit, exact, time.perf_counter() - started)
         report_path.parent.mkdir(parents=True, exist_ok=True)
-        report_path.write_text(render_report(verdicts, header, base=report_path.parent), encoding="utf-8")
+        report_path.write_text(render_verdicts(verdicts, header, base=report_path.parent), encoding="utf-8")
     return verdicts
 
 
@@ -720,7 +720,7 @@ def render_table(verdicts: Sequence[Verdict]) -> str:
     return "\n".join(lines)
 
 
-def render_report(verdicts: Sequence[Verdict], header: str = "", base: Path | None = None) -> str:
+def render_verdicts(verdicts: Sequence[Verdict], header: str = "", base: Path | None = None) -> str:
     """Markdown: the header, the table, then each refuted claim with numbers and picture."""
     parts = [header, "## Verdicts", "", "```", render_table(verdicts), "```", ""]
     for v in verdicts:
@@ -740,6 +740,9 @@ def render_report(verdicts: Sequence[Verdict], header: str = "", base: Path | No
         parts.append("")
     parts += ["", "## How bad can the greedy get?", "", _WORST_POINTER]
     return "\n".join(parts)
+
+
+render_report = render_verdicts  # the old name, kept importable (parcover.report.render_report writes gap reports)
 
 
 _WORST_POINTER = ("See [`worst.md`](worst.md) (`parcover worst`): the worst greedy/optimum ratios found per claim "

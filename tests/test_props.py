@@ -327,7 +327,7 @@ def test_draw_skipped_with_a_note_without_plot_module(tiny_line, tmp_path, monke
     verdict = P.draw_counterexample(_refuted_verdict(tiny_line), tmp_path)
     assert verdict.picture is None
     assert "drawing skipped: parcover.plot is not available" in verdict.notes
-    assert "drawing skipped" in P.render_report([verdict])
+    assert "drawing skipped" in P.render_verdicts([verdict])
 
 
 def test_docstring_examples():
@@ -335,3 +335,9 @@ def test_docstring_examples():
 
     outcome = doctest.testmod(P)
     assert outcome.attempted > 0 and outcome.failed == 0
+
+
+def test_the_old_name_of_render_verdicts_still_imports():
+    from parcover.props import render_report
+
+    assert render_report is P.render_verdicts
