@@ -92,9 +92,9 @@ questions skipped; a method's question with only part of its rows is recomputed.
 from __future__ import annotations
 
 from parcover.report.machine import machine_info, run_metadata
-from parcover.report.machine import (
-    package_version as package_version,  # used by the benchmarks
-)
+
+# not in __all__, imported from here by the benchmarks
+from parcover.report.machine import package_version as package_version
 from parcover.report.plots import draw_plots
 from parcover.report.render import render_report, summary_table, worst_rows
 from parcover.report.run import gap_to_optimum, gaps
