@@ -334,7 +334,7 @@ def test_a_blinked_insertion_keeps_the_robot_limit():
     # ruin and recreate skips each slot with probability 1 %: with few slots all could be
     # skipped, and the KPOI went to a new route. `best --time-limit 1 --robots 2` on 3
     # KPOIs ran enough rounds to meet it: 3 routes, a SolverError traceback.
-    from parcover.algorithms.local_search import _Search
+    from parcover.algorithms.moves import Search
     from parcover.problem import Problem
 
     class Blink:  # every slot skipped
@@ -342,7 +342,7 @@ def test_a_blinked_insertion_keeps_the_robot_limit():
             return 0.0
 
     square = pc.Instance.from_points([[0, 0], [1, 0], [0, 1], [1, 1]])
-    search = _Search(square, Problem("paths", robots=2))
+    search = Search(square, Problem("paths", robots=2))
     seqs = [[0, 1, 4], [0, 4]]  # KPOI 1 on route 1, route 2 empty (4 is the path end)
     assert search.insert(seqs, 2, allow_new=True, rng=Blink())
     assert len(seqs) == 2 and sorted(v for s in seqs for v in s[1:-1]) == [1, 2]
@@ -351,17 +351,17 @@ def test_a_blinked_insertion_keeps_the_robot_limit():
 def test_best_answers_at_once_when_no_construction_fits(monkeypatch):
     # no construction started before the stop and ours (O(n^2)) would not fit: at 3000
     # KPOIs ours then ran 14 s inside `exact --time-limit 3`; the nearest neighbour answers
-    from parcover.algorithms import local_search
+    from parcover.algorithms import starts
     from parcover.problem import Problem
 
     def too_slow(*args, **kwargs):
         raise AssertionError("min_max_insertion ran although it does not fit")
 
-    monkeypatch.setattr(local_search, "min_max_insertion", too_slow)
-    monkeypatch.setattr(local_search, "_INSERTION_SECONDS", 1e6)  # never fits
+    monkeypatch.setattr(starts, "min_max_insertion", too_slow)
+    monkeypatch.setattr(starts, "_INSERTION_SECONDS", 1e6)  # never fits
     inst = pc.generate.random_points(30, seed=1)
     for problem in (Problem("paths", robots=3), Problem("tours")):
-        name, routes = local_search.best_construction(inst, problem, time_limit=1e-9, seed=0)
+        name, routes = starts.best_construction(inst, problem, time_limit=1e-9, seed=0)
         assert name == "nn" and sorted(v for r in routes for v in r) == list(range(1, 31))
 
 

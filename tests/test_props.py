@@ -20,7 +20,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 
 import parcover
-from parcover import Instance, MethodInfo, Solution, Status, generate, props as P
+from parcover import Instance, MethodInfo, Solution, Status, generate, props as P, shrinking
 from parcover.problem import meets_deadline
 from parcover.question import load as load_question
 from parcover.solve import METHODS, register_method
@@ -245,7 +245,7 @@ def test_shrink_graph_instance_keeps_only_shortest_walks():
 
 def test_shrunk_graph_keeps_key_distances():
     graph = generate.random_graph(6, 3)
-    fewer = P._keep(graph, graph.kpois[:3])
+    fewer = shrinking._keep(graph, graph.kpois[:3])
     rows = [0, 1, 2, 3]
     assert fewer.distances == pytest.approx(graph.distances[rows][:, rows])
     assert len(fewer.edges) < len(graph.edges)
@@ -327,11 +327,21 @@ def test_draw_skipped_with_a_note_without_plot_module(tiny_line, tmp_path, monke
     verdict = P.draw_counterexample(_refuted_verdict(tiny_line), tmp_path)
     assert verdict.picture is None
     assert "drawing skipped: parcover.plot is not available" in verdict.notes
-    assert "drawing skipped" in P.render_report([verdict])
+    assert "drawing skipped" in P.render_verdicts([verdict])
 
 
-def test_docstring_examples():
+def test_docstring_examples():  # shrink's, in parcover.shrinking
     import doctest
 
-    outcome = doctest.testmod(P)
+    outcome = doctest.testmod(shrinking)
     assert outcome.attempted > 0 and outcome.failed == 0
+
+
+def test_the_old_name_of_render_verdicts_still_imports():
+    from parcover.props import render_report
+
+    assert render_report is P.render_verdicts
+
+
+def test_props_keeps_the_shrinking_names():
+    assert P.shrink is shrinking.shrink and P.instance_size is shrinking.instance_size

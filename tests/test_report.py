@@ -196,7 +196,7 @@ def test_a_resumed_run_gives_the_same_rows(tmp_path):
     cut.write_text("".join(lines[:5]) + lines[5][:20])
     assert list(report.read_gaps(cut)["compared"]) == ["as asked"] * 3 + ["robots at its makespan"]
     settings = {"reference": "brute", "seed": 0, "time_limit": 10.0}
-    assert len(report._kept_rows(cut, settings)) == 3
+    assert len(report.store._kept_rows(cut, settings)) == 3
     resumed = _small_run(csv_path=cut)
     pd.testing.assert_frame_equal(resumed.drop(columns=TIMING), whole.drop(columns=TIMING), check_exact=True)
     pd.testing.assert_frame_equal(report.read_gaps(cut), resumed, check_exact=True)
@@ -305,7 +305,7 @@ def _planted() -> pd.DataFrame:
                    value=None if gap is None else 10 * (1 + gap), optimum=10.0,
                    gap_to_optimum=gap, at_optimum=at_optimum, seed=0, seconds=0.0)
         rows.append(row)
-    return report._frame(rows)
+    return report.store._frame(rows)
 
 
 def test_report_md_summarises_a_planted_table():
@@ -427,3 +427,14 @@ def test_deadline_factors_may_be_text_as_from_a_command_line():
 def test_two_instances_with_one_name_are_refused():
     with pytest.raises(InputError, match="Two instances are named 'star-3'"):
         report.load_instances(["star:n=3", "star:n=2..3"])
+
+
+def test_the_package_keeps_the_names_of_the_module_it_was():
+    from parcover.report import (  # noqa: F401 - importing them is the test
+        COLUMNS, TIMING_COLUMNS, Question, draw_plots, gap_to_optimum, gaps, load_instances, machine_info,
+        package_version, parse_spec, questions, read_gaps, render_report, run_metadata, summary_table, worst_rows,
+        write_report,
+    )
+
+    assert Question is report.GridQuestion  # the old name of the grid's question
+    assert set(report.__all__) <= set(dir(report))

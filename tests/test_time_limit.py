@@ -76,14 +76,14 @@ def test_exact_above_branchprice_size_loads_neither_branchprice_nor_setpart() ->
 
 
 def test_best_converts_an_instances_distances_once() -> None:
-    from parcover.algorithms.local_search import _Search
+    from parcover.algorithms.moves import Search
     from parcover.problem import Problem
 
     instance, other = random_points(9, seed=1), random_points(9, seed=2)
-    search = _Search(instance, Problem("paths", robots=2))
-    assert _Search(instance, Problem("tours")).d is search.d
+    search = Search(instance, Problem("paths", robots=2))
+    assert Search(instance, Problem("tours")).d is search.d
     assert search.d == [[*row, 0.0] for row in instance.distances.tolist()] + [[0.0] * 11]
-    assert _Search(other, Problem("paths", robots=2)).d is not search.d
+    assert Search(other, Problem("paths", robots=2)).d is not search.d
 
 
 @pytest.mark.parametrize("shift, symmetric", [(0.0, True), (1e-13, True), (1e-9, False), (-1e-9, False)])

@@ -136,3 +136,11 @@ def test_best_is_valid_and_never_worse_than_its_start(instance, problem, seed):
     assert value[0] <= start[0] + 1e-9
     if problem.objective == "robots" and value[0] == start[0]:
         assert value[1] <= start[1] * (1 + 1e-9) + 1e-9
+
+
+def test_local_search_keeps_the_names_of_its_split_parts():
+    from parcover.algorithms import local_search, moves, starts
+
+    assert local_search.min_max_insertion is starts.min_max_insertion
+    assert local_search.best_construction is starts.best_construction
+    assert set(local_search.__all__) <= set(dir(local_search)) and local_search.Search is moves.Search

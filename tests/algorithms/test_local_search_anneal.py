@@ -13,7 +13,8 @@ from hypothesis import strategies as st
 
 from parcover import generate
 from milp import setpart
-from parcover.algorithms.local_search import _accepts, _Search, best, fewer_robots, improve
+from parcover.algorithms.local_search import _accepts, best, fewer_robots, improve
+from parcover.algorithms.moves import Search
 from parcover.problem import Problem, meets_deadline
 from parcover.verify import route_costs
 from strategies import instances, least_makespan_or_robots
@@ -88,7 +89,7 @@ def _poor_start(n, robots):
 @given(instance=instances(2, 12), problem=least_makespan_or_robots(4), seed=st.integers(0, 5))
 def test_ruin_and_recreate_keeps_a_valid_solution(instance, problem, seed):
     robots = problem.robots
-    search = _Search(instance, problem)
+    search = Search(instance, problem)
     seqs = search.sequences(_poor_start(instance.n, robots))
     rng = random.Random(seed)
     for _ in range(5):
@@ -108,7 +109,7 @@ def test_local_search_from_changed_routes_reaches_a_full_local_optimum(routes, r
     # left to do.
     instance = generate.random_points(40, 6)
     problem = Problem(routes, robots=robots)
-    search = _Search(instance, problem)
+    search = Search(instance, problem)
     seqs = search.polish(search.sequences(_poor_start(40, robots)))
     rng = random.Random(1)
     for _ in range(5):
