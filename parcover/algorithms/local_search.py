@@ -59,7 +59,7 @@ import random
 import time
 from typing import Any
 
-from milp.deadline import Deadline, TimeLimit
+from milp.core.timelimit import TimeLimit, TimeLimitLike
 from parcover.algorithms.moves import Key, Search
 from parcover.algorithms.starts import best_construction, min_max_insertion
 from parcover.bounds import lower_bound, robots_lower_bound
@@ -96,7 +96,7 @@ def best(
     instance: Instance,
     problem: Problem,
     *,
-    time_limit: TimeLimit = None,
+    time_limit: TimeLimitLike = None,
     seed: int = 0,
     iterations: int | None = None,
     target: float | None = None,
@@ -109,7 +109,7 @@ def best(
     instance, problem
         The question; both objectives and both route kinds.
     time_limit
-        Seconds for the whole run at most, or a :class:`~milp.deadline.Deadline`
+        Seconds for the whole run at most, or a :class:`~milp.core.timelimit.TimeLimit`
         shared with the caller. Results depend on the machine's speed only when the
         limit ends the search (or is predicted to: module docstring).
     seed
@@ -136,7 +136,7 @@ def best(
         started from), ``start_value`` and ``value`` (the objective key: makespan and
         total length, or robots, makespan and total length) and ``iterations``.
     """
-    time_limit = Deadline.of(time_limit).remaining()
+    time_limit = TimeLimit.of(time_limit).remaining()
     started = time.perf_counter()
     if until not in UNTIL:
         raise InputError(f"best: until must be one of {', '.join(UNTIL)}, not {until!r}.")

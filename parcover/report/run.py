@@ -351,7 +351,7 @@ def _run(tasks: list[_Task], workers: int, scheduler: str | None) -> Iterator[tu
         for task in tasks:
             yield from ((1, rows) for rows in _unit_rows(task))
         return
-    from milp.orphans import exit_with_parent
+    from milp.core.orphans import exit_with_parent
 
     # Workers end with this process, whatever ends it (SIGKILL included): no orphans.
     context = multiprocessing.get_context()
