@@ -15,6 +15,7 @@ from typing import NoReturn
 
 from parcover import __version__
 from milp.core.timelimit import TimeLimit
+from milp.core.sizes import SETPART_MAX_KPOIS
 from parcover import generate as gen
 from parcover.certify import Certificate, verify
 from parcover.errors import InputError
@@ -228,12 +229,12 @@ def _props(args: argparse.Namespace) -> int:
         f" {flag}" for flag, on in (
             (f"--seed {args.seed}", args.seed != 0), ("--quick", args.quick),
             (f"--time-limit {args.time_limit:g}", args.time_limit != 10.0),
-            (f"--exact {args.exact}", args.exact not in (None, "exact")),
+            (f"--reference {args.reference}", args.reference not in (None, "exact")),
             (f"--out-dir {args.out_dir}", bool(args.out_dir)), (f"--report {args.report}", bool(args.report)),
         ) if on
     )
     verdicts = props(
-        seed=args.seed, quick=args.quick, time_limit=args.time_limit, exact=args.exact or "exact",
+        seed=args.seed, quick=args.quick, time_limit=args.time_limit, reference=args.reference or "exact",
         greedy=args.greedy.split(",") if args.greedy else None,
         out_dir=args.out_dir, report_path=args.report, command=command,
     )
@@ -253,7 +254,7 @@ def _props_check(args: argparse.Namespace) -> int:
         questions.append((path, instance, question))
     refuted = True
     for path, instance, question in questions:
-        outcome = check(question, instance, exact=args.exact, time_limit=args.time_limit, seed=args.seed)
+        outcome = check(question, instance, reference=args.reference, time_limit=args.time_limit, seed=args.seed)
         print(render_check(path, outcome))
         refuted = refuted and outcome.refuted
     return 0 if refuted else 1
@@ -517,8 +518,9 @@ def _build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quick", action="store_true", help="small families only (seconds)")
     p.add_argument("--time-limit", type=_positive_float, default=10.0, metavar="SECONDS",
                    help="per exact solve (default: 10); unproven instances count as undecided")
-    p.add_argument("--exact", help="exact method giving the optima (default: exact; with --check setpart "
-                   "up to 20 KPOIs, exact above)")
+    p.add_argument("--reference", "--exact", dest="reference", metavar="METHOD",
+                   help="the exact method giving the optima (default: exact; with --check setpart up to "
+                   f"{SETPART_MAX_KPOIS} KPOIs, exact above; --exact is its former name)")
     p.add_argument("--greedy", help="comma-separated methods to judge (default: every paper* method)")
     p.add_argument("--out-dir", metavar="DIR", help="save shrunk counterexamples here (e.g. instances/counterexamples)")
     p.add_argument("--report", metavar="FILE.md", help="write the verdicts with pictures (e.g. reports/verdicts.md)")

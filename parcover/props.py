@@ -201,7 +201,7 @@ class CachedSolver:
 def claims(
     solver: Callable[..., Result],
     *,
-    exact: str = "exact",
+    reference: str = "exact",
     greedy: Sequence[str] = ("paper",),
     general: Sequence[Instance] = (),
     grids: Sequence[Instance] = (),
@@ -213,7 +213,7 @@ def claims(
     ----------
     solver
         ``solver(instance, method, routes, robots=, deadline=) -> Result``.
-    exact
+    reference
         The exact reference method.
     greedy
         The methods implementing the paper's algorithms.
@@ -229,26 +229,26 @@ def claims(
     def prop1(routes: str) -> Callable[[Instance], Outcome]:
         def check(inst: Instance) -> Outcome:
             least = 2 * inst.c_max if routes == "tours" else inst.c_max
-            ref = solver(inst, exact, routes, robots=inst.n)
+            ref = solver(inst, reference, routes, robots=inst.n)
             return compare_optimum(ref, "eq", least, f"least makespan claimed {number(least)} with k = n = {inst.n}")
         return check
 
     def prop2(factor: float) -> Callable[[Instance], Outcome]:
         def check(inst: Instance) -> Outcome:
             upper = inst.n - len(inst.P_max) + 1
-            ref = solver(inst, exact, "paths", deadline=factor * inst.c_max)
+            ref = solver(inst, reference, "paths", deadline=factor * inst.c_max)
             return compare_optimum(ref, "le", upper, f"|V| - |P_max| + 1 = {upper} at c_p = {factor:g} c_max")
         return check
 
     def fig1(inst: Instance) -> Outcome:
         parts = [
-            compare_optimum(solver(inst, exact, "paths", robots=k), "eq", claimed, f"{k} robots: claimed {claimed:g}")
+            compare_optimum(solver(inst, reference, "paths", robots=k), "eq", claimed, f"{k} robots: claimed {claimed:g}")
             for k, claimed in ((1, 8.0), (2, 4.0), (3, 4.0))
         ]
         return _all_of(parts)
 
     def fig3_paths(inst: Instance) -> Outcome:
-        ref = solver(inst, exact, "paths")
+        ref = solver(inst, reference, "paths")
         return compare_optimum(ref, "eq", inst.n, f"|V| = {inst.n} paths claimed at c_max")
 
     def greedy_optimal(method: str, routes: str, factor: float | None) -> Callable[[Instance], Outcome]:
@@ -256,7 +256,7 @@ def claims(
         def check(inst: Instance) -> Outcome:
             deadline = None if factor is None else factor * inst.c_max
             mine = solver(inst, method, routes, deadline=deadline)
-            ref = solver(inst, exact, routes, deadline=deadline)
+            ref = solver(inst, reference, routes, deadline=deadline)
             out = compare_optimum(ref, "ge", mine.robots, brief(mine))
             return dataclasses.replace(out, results=(mine, ref))
         return check
@@ -268,10 +268,10 @@ def claims(
             assert mine.makespan is not None and mine.robots is not None
             label = brief(mine)
             if objective == "robots":
-                ref = solver(inst, exact, "tours", deadline=mine.makespan)
+                ref = solver(inst, reference, "tours", deadline=mine.makespan)
                 out = compare_optimum(ref, "ge", mine.robots, label)
             else:
-                ref = solver(inst, exact, "tours", robots=mine.robots)
+                ref = solver(inst, reference, "tours", robots=mine.robots)
                 out = compare_optimum(ref, "ge", mine.makespan, label)
             return dataclasses.replace(out, results=(mine, ref))
         return check
@@ -279,7 +279,7 @@ def claims(
     def fig3_tours(method: str) -> Callable[[Instance], Outcome]:
         def check(inst: Instance) -> Outcome:
             mine = solver(inst, method, "tours")
-            ref = solver(inst, exact, "tours", deadline=mine.makespan)
+            ref = solver(inst, reference, "tours", deadline=mine.makespan)
             claimed = math.ceil(inst.n / 2)
             out = compare_optimum(ref, "eq", claimed,
                                   f"ceil(|V|/2) = {claimed} tours claimed at {method}'s makespan {number(mine.makespan)}")
@@ -406,7 +406,7 @@ def props(
     seed: int = 0,
     quick: bool = False,
     time_limit: float | None = 10.0,
-    exact: str = "exact",
+    reference: str = "exact",
     greedy: Sequence[str] | None = None,
     out_dir: str | Path | None = None,
     report_path: str | Path | None = None,
@@ -423,7 +423,7 @@ def props(
         Small families only (a few seconds; what the tests run).
     time_limit
         Seconds per exact solve (10 by default); unproven instances count as undecided.
-    exact
+    reference
         The exact reference method.
     greedy
         Methods implementing the paper's algorithms; default every registered method
@@ -451,7 +451,7 @@ def props(
     fam = families(seed, quick=quick)
     started = time.perf_counter()
     verdicts = []
-    for claim in claims(solver, exact=exact, greedy=greedy, general=fam["general"], grids=fam["grids"],
+    for claim in claims(solver, reference=reference, greedy=greedy, general=fam["general"], grids=fam["grids"],
                         stars=fam["stars"]):
         verdict, _ = evaluate(claim, progress)
         if verdict.counterexample is not None and claim.shrinkable:
@@ -463,8 +463,8 @@ def props(
         report_path = Path(report_path)
         pictures = report_path.parent / report_path.stem
         verdicts = [draw_counterexample(v, pictures) for v in verdicts]
-        header = _header(command or _default_command(seed, quick, time_limit, exact, greedy, out_dir, report_path),
-                         seed, quick, time_limit, exact, time.perf_counter() - started)
+        header = _header(command or _default_command(seed, quick, time_limit, reference, greedy, out_dir, report_path),
+                         seed, quick, time_limit, reference, time.perf_counter() - started)
         report_path.parent.mkdir(parents=True, exist_ok=True)
         report_path.write_text(render_verdicts(verdicts, header, base=report_path.parent), encoding="utf-8")
     return verdicts
@@ -584,7 +584,7 @@ def _relative(path: str, base: Path | None) -> str:
         return path
 
 
-def _header(command: str, seed: int, quick: bool, time_limit: float | None, exact: str, seconds: float) -> str:
+def _header(command: str, seed: int, quick: bool, time_limit: float | None, reference: str, seconds: float) -> str:
     from parcover import __version__
 
     return "\n".join([
@@ -595,7 +595,7 @@ def _header(command: str, seed: int, quick: bool, time_limit: float | None, exac
         f"    {command}",
         "",
         f"parcover {__version__}, Python {sys.version.split()[0]}; seed {seed}; "
-        f"{'quick' if quick else 'full'} families; exact reference `{exact}`, "
+        f"{'quick' if quick else 'full'} families; exact reference `{reference}`, "
         f"time limit {time_limit} s per solve; {seconds:.0f} s in all.",
         "",
         "A claim is refuted only by a proven optimum or bound on the wrong side, or by a "
@@ -605,9 +605,9 @@ def _header(command: str, seed: int, quick: bool, time_limit: float | None, exac
     ])
 
 
-def _default_command(seed: int, quick: bool, time_limit: float | None, exact: str, greedy: Sequence[str],
+def _default_command(seed: int, quick: bool, time_limit: float | None, reference: str, greedy: Sequence[str],
                      out_dir: str | Path | None, report_path: Path) -> str:
-    args = [f"seed={seed}", f"quick={quick}", f"time_limit={time_limit}", f"exact={exact!r}",
+    args = [f"seed={seed}", f"quick={quick}", f"time_limit={time_limit}", f"reference={reference!r}",
             f"greedy={list(greedy)!r}", f"out_dir={str(out_dir) if out_dir else None!r}",
             f"report_path={str(report_path)!r}"]
     return f'python -c "import parcover.props as p; p.props({", ".join(args)})"'

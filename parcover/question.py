@@ -41,36 +41,37 @@ class Check:
 
     question: Question
     greedy: Result
-    exact: Result
+    reference: Result
     refuted: bool
     reason: str
 
 
-def check(question: Question, instance: Instance, *, exact: str | None = None,
+def check(question: Question, instance: Instance, *, reference: str | None = None,
           time_limit: float | None = None, seed: int = 0) -> Check:
-    """Ask ``question`` again with its greedy and an exact method (:func:`exact_method_for` by default)."""
+    """Ask ``question`` again with its greedy and the exact ``reference`` method
+    (:func:`exact_method_for` by default)."""
     greedy = question.ask_greedy(instance, time_limit=time_limit, seed=seed)
-    reference = question.ask(instance, exact or exact_method_for(instance), time_limit=time_limit, seed=seed)
+    optimum = question.ask(instance, reference or exact_method_for(instance), time_limit=time_limit, seed=seed)
     stale = _stale(question, greedy)
     if stale:
-        return Check(question, greedy, reference, False, stale)
+        return Check(question, greedy, optimum, False, stale)
     value = greedy.robots if question.objective == "robots" else greedy.makespan
     assert value is not None
-    outcome = compare_optimum(reference, "ge", value, f"{greedy.method} {question.objective} {value:.6g}")
-    reason = {"refuted": f"{reference.method} is better than {greedy.method}",
+    outcome = compare_optimum(optimum, "ge", value, f"{greedy.method} {question.objective} {value:.6g}")
+    reason = {"refuted": f"{optimum.method} is better than {greedy.method}",
               "holds": f"{greedy.method}'s {question.objective} is optimal here",
-              "undecided": f"{reference.method} could not decide within its limits"}[outcome.status]
-    return Check(question, greedy, reference, outcome.status == "refuted", reason)
+              "undecided": f"{optimum.method} could not decide within its limits"}[outcome.status]
+    return Check(question, greedy, optimum, outcome.status == "refuted", reason)
 
 
 def render_check(name: str, outcome: Check) -> str:
     """The question, the greedy's and the exact method's answers side by side, and the verdict."""
-    q, greedy, exact = outcome.question, outcome.greedy, outcome.exact
+    q, greedy, reference = outcome.question, outcome.greedy, outcome.reference
     rows = [
-        ("", greedy.method, exact.method),
-        ("robots", _cell(greedy.robots), _cell(exact.robots)),
-        ("makespan", _cell(greedy.makespan), _cell(exact.makespan)),
-        ("status", greedy.status.value, exact.status.value),
+        ("", greedy.method, reference.method),
+        ("robots", _cell(greedy.robots), _cell(reference.robots)),
+        ("makespan", _cell(greedy.makespan), _cell(reference.makespan)),
+        ("status", greedy.status.value, reference.status.value),
         ("recorded", _recorded(q.greedy), _recorded(q.optimum)),
     ]
     widths = [max(len(row[i]) for row in rows) for i in range(3)]

@@ -179,7 +179,7 @@ def targets(claims: Iterable[str] = CLAIMS, methods: Iterable[str] = READINGS) -
     return [Target(c, m) for c in claims for m in methods]
 
 
-def score(instance: Instance, target: Target, exact: str = EXACT) -> Score:
+def score(instance: Instance, target: Target, reference: str = EXACT) -> Score:
     """Run the greedy and the exact method on the target's question (as :mod:`parcover.props`).
 
     Raises
@@ -193,13 +193,13 @@ def score(instance: Instance, target: Target, exact: str = EXACT) -> Score:
     deadline = None if target.factor is None else target.factor * instance.c_max
     greedy = solve(instance, routes, deadline=deadline, method=target.method)  # type: ignore[arg-type]
     if target.claim == "alg2-robots":
-        optimum = solve(instance, "tours", deadline=greedy.makespan, method=exact)
+        optimum = solve(instance, "tours", deadline=greedy.makespan, method=reference)
     elif target.claim == "alg2-makespan":
-        optimum = solve(instance, "tours", robots=greedy.robots, method=exact)
+        optimum = solve(instance, "tours", robots=greedy.robots, method=reference)
     else:
-        optimum = solve(instance, routes, deadline=deadline, method=exact)  # type: ignore[arg-type]
+        optimum = solve(instance, routes, deadline=deadline, method=reference)  # type: ignore[arg-type]
     if optimum.status is not Status.OPTIMAL:
-        raise RuntimeError(f"{exact} did not prove {target.id} on {instance.name}: {optimum.status.value}")
+        raise RuntimeError(f"{reference} did not prove {target.id} on {instance.name}: {optimum.status.value}")
     return Score(greedy, optimum, target.objective)
 
 
@@ -419,7 +419,7 @@ def search(
     seed: int = 0,
     max_kpois: int = MAX_KPOIS,
     spaces: Sequence[str] = SPACES,
-    exact: str = EXACT,
+    reference: str = EXACT,
     tick: Callable[[Found], None] | None = None,
 ) -> Found:
     """Simulated annealing with restarts on ``target``'s ratio for ``budget`` seconds.
@@ -454,7 +454,7 @@ def search(
             inst = shape.instance(f"worst-{target.id}")
         except InputError:
             return None
-        result = score(inst, target, exact)
+        result = score(inst, target, reference)
         found.evaluations += 1
         found.offer(inst, result, space)
         if tick is not None:
@@ -532,7 +532,7 @@ def family(
     lengths: Sequence[int] = FAMILY_LENGTHS,
     factors: Sequence[float] = FAMILY_FACTORS,
     time_limit: float = FAMILY_TIME_LIMIT,
-    exact: str = "exact",
+    reference: str = "exact",
 ) -> list[Member]:
     """Every reading and ``exact`` on :func:`halving_line` members, paths within ``factor x c_max``.
 
@@ -547,7 +547,7 @@ def family(
         for factor in factors:
             deadline = factor * inst.c_max
             greedy = {m: int(solve(inst, "paths", deadline=deadline, method=m).robots) for m in READINGS}
-            optimum = solve(inst, "paths", deadline=deadline, method=exact, time_limit=time_limit)
+            optimum = solve(inst, "paths", deadline=deadline, method=reference, time_limit=time_limit)
             members.append(Member(length, factor, greedy, optimum))
         if not all(m.proven for m in members[-len(factors):]):
             break
@@ -600,7 +600,7 @@ def growth(target: Target, found: Found, members: Sequence[Member]) -> str:
     return f"| {target.claim} | {target.method} | {ratio:.3f} | {-minus_n} | {where} | {verdict} |"
 
 
-def draw_family(length: int, path: Path, exact: str = EXACT) -> Path:
+def draw_family(length: int, path: Path, reference: str = EXACT) -> Path:
     """Draw :func:`halving_line` ``length``: the literal Alg. 1's paths beside the optimum's,
     one lane per robot (the line's points all lie on y = 0, so routes are drawn apart)."""
     from parcover.plot import plt
@@ -608,7 +608,7 @@ def draw_family(length: int, path: Path, exact: str = EXACT) -> Path:
 
     inst = halving_line(length)
     x = {"0": 0.0, **{str(i + 1): float(-length if i == 0 else i) for i in range(length + 1)}}
-    results = [solve(inst, "paths", method="paper"), solve(inst, "paths", method=exact)]
+    results = [solve(inst, "paths", method="paper"), solve(inst, "paths", method=reference)]
     lanes = max(len(r.routes) for r in results)
     fig, axes = plt.subplots(1, 2, figsize=(11, 1.2 + 0.5 * lanes), sharey=True)
     for ax, result in zip(axes, results):

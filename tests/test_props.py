@@ -121,8 +121,8 @@ def _solver():
     return P.CachedSolver(time_limit=5.0, seed=0)
 
 
-def _claim(claim_id, instances, *, exact="test-brute", greedy=("test-split",)):
-    found = [c for c in P.claims(_solver(), exact=exact, greedy=greedy, general=instances,
+def _claim(claim_id, instances, *, reference="test-brute", greedy=("test-split",)):
+    found = [c for c in P.claims(_solver(), reference=reference, greedy=greedy, general=instances,
                                  grids=instances, stars=instances) if c.id == claim_id]
     assert len(found) == 1
     return found[0]
@@ -182,7 +182,7 @@ def test_planted_refutation_names_the_smallest_counterexample(tiny_line):
 def test_undecided_when_reference_not_proven(tiny_line):
     # The split fake uses 2 robots; the weak reference finds 3 and proves only 1:
     # the optimum may be 1 or 2, so the instance must be undecided, not refuted.
-    verdict, outcomes = P.evaluate(_claim("alg1-test-split", [tiny_line], exact="test-weak"))
+    verdict, outcomes = P.evaluate(_claim("alg1-test-split", [tiny_line], reference="test-weak"))
     assert outcomes[0][1].status == "undecided"
     assert not verdict.is_refuted and verdict.counterexample is None
     assert verdict.text == "holds on 0 of 1 (1 undecided)"

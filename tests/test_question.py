@@ -185,6 +185,13 @@ def test_check_exits_1_when_the_greedys_run_no_longer_gives_the_questions_limit(
     assert code == 1 and "now reaches makespan" in out
 
 
+@pytest.mark.parametrize("flag", ["--reference", "--exact"])
+def test_check_asks_the_reference_method_named(flag, tmp_path, capsys):
+    # --exact is the former name of --reference; either names the method giving the optimum
+    code, out, _ = run(capsys, "props", "--check", write(tmp_path, block()), flag, "branchprice")
+    assert code == 0 and "branchprice" in out and "setpart" not in out.split("recorded")[0]
+
+
 def test_check_exits_0_on_a_refuting_file_and_2_on_a_file_without_question(tmp_path, capsys):
     # paper-1-1-end at 1.5 c_max: path 1 goes to v_max = 2 (sqrt 2), extending it to 1 would cost
     # sqrt(2) + 1 = 2.414 > 2.121, so 1 gets a path of its own: 2 paths against the optimal 1

@@ -98,7 +98,7 @@ def test_family_growth_verdicts_from_hand_counted_members():
     # [-3], [1, 2], [3]; L = 7 (D = 8.75): [-7], [1..5], [6, 7]; L = 15 (D = 18.75): [-15],
     # [1..10], [11..15]: 3 robots each, ratio 1.5 throughout: bounded, and the search's
     # larger ratio is the one reported. paper-5d-end sweeps the line: ratio 1, no growth.
-    members = family((3, 7, 15), (1.0, 1.25), exact="setpart")
+    members = family((3, 7, 15), (1.0, 1.25), reference="setpart")
     assert [m.greedy["paper"] for m in members] == [3, 3, 4, 3, 5, 3]
     assert grows(Target("alg1", "paper"), members) and grows(Target("alg1", "paper-1-1-end"), members)
     assert not grows(Target("alg1", "paper-5d-end"), members)
@@ -116,7 +116,7 @@ def test_family_growth_verdicts_from_hand_counted_members():
 def test_family_row_of_an_unproven_optimum_is_feasible_and_stops_the_family():
     # With a method that cannot prove its answer (the greedy itself: 4 robots at L = 7, bound 2),
     # the member is shown feasible with its bound, never optimal, and L = 15 is not tried.
-    members = family((7, 15), (1.0,), exact="paper")
+    members = family((7, 15), (1.0,), reference="paper")
     assert [m.length for m in members] == [7] and not members[0].proven
     row = family_table(members, 1.0)[-1]
     assert row == "| 8 | 4 | 2 | 4 | 2 | 4 | feasible | 2 | >= 1.00 |" and "optimal" not in row
