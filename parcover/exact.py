@@ -241,14 +241,18 @@ def _setpart(model: Any, instance: Instance, problem: Problem, time_limit: TimeL
     return solution
 
 
-def exact_models(n: int, objective: str) -> set[str]:
+def exact_models(n: int, objective: str, robots: int | None = None) -> set[str]:
     """The methods ``exact`` may answer with on ``n`` KPOIs for ``objective``
-    (``"makespan"`` or ``"robots"``; module docstring)."""
+    (``"makespan"`` or ``"robots"``; module docstring), with at most ``robots`` robots
+    for the least makespan (``None``: any number)."""
     if n <= SETPART_FIRST[objective]:
         return {"setpart", "bounds"}
     if n <= SETPART_MAX_KPOIS:
         return {"branchprice", "setpart"}
-    return {"branchprice", "compact"} | ({"branchcut"} if objective == "makespan" else set())
+    if n > BRANCHPRICE_MAX_KPOIS:
+        return {"compact"}
+    races = objective == "makespan" and n <= RACE_MAX_KPOIS and (robots is None or robots <= RACE_ROUTES)
+    return {"branchprice", "compact"} | ({"branchcut"} if races else set())
 
 
 def _decided(solution: Solution) -> bool:
