@@ -13,7 +13,9 @@ that can reach the question (:func:`certifier_for`) that is not left out:
 - for the least makespan with at most :data:`parcover.exact.RACE_ROUTES` robots on up to
   :data:`parcover.exact.RACE_MAX_KPOIS` KPOIs, ``branchcut``, then ``branchprice``
   (Necula's eil51, berlin52 and eil76 with 2 tours: only branch-and-cut proves them in
-  minutes; eil51 with 3 tours: both do);
+  minutes, so their branch-and-cut proofs stay undecided; eil51 with 3 tours, proven by
+  branch-and-price in 84 s: branch-and-cut's bound was 152.94 after 600 s and 154.49
+  after 1800 s against the optimum 159.57, on a machine shared with other work);
 - else ``branchprice`` (up to :data:`milp.branchprice.MAX_KPOIS` KPOIs), then
   ``branchcut`` for the least makespan (up to its :data:`milp.branchcut.MAX_KPOIS`);
 - ``compact`` last: it proves small instances only.
@@ -134,9 +136,9 @@ def _solve(instance: Instance, kind: str, question: dict[str, Any], method: str,
            time_limit: float) -> Result:
     """The certifier's answer to the file's question, from the file's routes when the
     certifier takes a warm start and they fit the question (else from its own)."""
+    from milp.core.timelimit import TimeLimit
     from parcover.errors import InputError
     from parcover.solve import method_with_options, solve
-    from milp.core.timelimit import TimeLimit
 
     limit = TimeLimit(time_limit)
     if routes and "warm_start" in method_with_options(method).options:
