@@ -1,15 +1,23 @@
-"""Exact methods side by side, one process each: the first to prove its answer wins.
+"""Exact methods side by side: the first to prove its answer wins.
 
 Used where no method dominates: with 2-3 long routes branch-and-price
 (:mod:`milp.branchprice`) and branch-and-cut (:mod:`milp.branchcut`) each prove some
 questions in seconds that the other does not prove in minutes (``milp/README.md``).
-Each entrant runs in a fresh interpreter (``python -m milp.race``, the question pickled
-on its standard input, the answer on its standard output): unlike ``multiprocessing``
-this never imports the caller's main script again, nor inherits the HiGHS thread pool
-of the parent without its threads. An entrant ends with its parent (:mod:`milp.core.orphans`):
-a killed solve leaves none running. Every entrant gets the same time limit; the race
-ends when one proves its answer (the others are stopped), when every entrant has
-answered, or when the time is up.
+
+:func:`race` runs every entrant in a fresh interpreter (``python -m milp.race``, the
+question pickled on its standard input, the answer on its standard output): unlike
+``multiprocessing`` this never imports the caller's main script again, nor inherits the
+HiGHS thread pool of the parent without its threads. An entrant ends with its parent
+(:mod:`milp.core.orphans`): a killed solve leaves none running. Every entrant gets the
+same time limit; the race ends when one proves its answer (the others are stopped), when
+every entrant has answered, or when the time is up.
+
+:func:`race_here` runs one entrant in the caller's process and thread, from the first
+second to the last (it is never restarted), and the others as :func:`race` does, started
+after ``others_after`` seconds unless the first has answered by then. A watching thread
+reads the others' answers; when one proves, it sets the stop of
+:func:`milp.core.timelimit.stopping`, which the entrant here reads where it reads its
+clock (branch-and-price between pricing rounds and nodes), so it ends within a round.
 """
 
 from __future__ import annotations
@@ -22,14 +30,17 @@ import selectors
 import subprocess
 import sys
 import tempfile
+import threading
 import time
+from collections.abc import Callable
 from typing import Any
 
 from milp.core import progress
 from milp.core.orphans import exit_with_parent
 from milp.core.result import MilpResult
+from milp.core.timelimit import stopping
 
-__all__ = ["race", "cores", "START_SECONDS"]
+__all__ = ["race", "race_here", "Entrant", "cores", "START_SECONDS"]
 
 #: Seconds kept back from an entrant's time limit for starting its interpreter (imports:
 #: 0.5-0.8 s measured) and sending its answer back.
@@ -43,6 +54,80 @@ GRACE_SECONDS = 1.0
 def cores() -> int:
     """Cores this process may run on."""
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
+class Entrant:
+    """One method answering in a fresh interpreter (``python -m milp.race``).
+
+    Parameters
+    ----------
+    name : str
+        The entrant's name, for the log and the answers.
+    target : str
+        ``"module:function"`` returning a :class:`~milp.core.result.MilpResult`.
+    args, kwargs
+        Passed to the function (picklable); ``time_limit`` is added.
+    time_limit : float or None
+        The function's time limit (seconds).
+    """
+
+    def __init__(self, name: str, target: str, args: tuple, kwargs: dict[str, Any], time_limit: float | None) -> None:
+        self.name = name
+        self.answer: MilpResult | None = None
+        self._output = b""
+        self._errors = tempfile.TemporaryFile()
+        environment, log_fd = progress.entrant_environment(name)
+        try:
+            self.process = subprocess.Popen([sys.executable, "-m", "milp.race", str(os.getpid())],
+                                            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self._errors,
+                                            env=environment, pass_fds=() if log_fd is None else (log_fd,))
+        except BaseException:
+            self._errors.close()
+            raise
+        finally:
+            if log_fd is not None:
+                os.close(log_fd)
+        log.info("race: %s started (pid %d, %s)", name, self.process.pid,
+                 "no time limit" if time_limit is None else f"{time_limit:.1f} s")
+        self.process.stdin.write(pickle.dumps((target, args, {**kwargs, "time_limit": time_limit})))
+        self.process.stdin.close()
+
+    @property
+    def running(self) -> bool:
+        """Whether its answer is still to come."""
+        return self.process.returncode is None
+
+    def read(self) -> MilpResult | None:
+        """Read what its standard output holds (call when it is readable); the answer once
+        the entrant has ended, else None.
+
+        Raises
+        ------
+        RuntimeError
+            If the entrant failed (its error output is in the message).
+        """
+        chunk = os.read(self.process.stdout.fileno(), 1 << 20)
+        if chunk:
+            self._output += chunk
+            return None
+        self.process.stdout.close()
+        self.process.wait()
+        if self.process.returncode != 0 or not self._output:
+            self._errors.seek(0)
+            raise RuntimeError(f"{self.name} failed (exit status {self.process.returncode}): {self._errors.read().decode(errors='replace')[-2000:]}")
+        self.answer = pickle.loads(self._output)
+        log.info("race: %s answered %s, value %s, bound %s", self.name, self.answer.status,
+                 _number(self.answer.objective), _number(self.answer.bound))
+        return self.answer
+
+    def stop(self) -> None:
+        """End it (if it runs) and release its files."""
+        if self.process.returncode is None:
+            self.process.kill()
+            self.process.wait()
+        if not self.process.stdout.closed:
+            self.process.stdout.close()
+        self._errors.close()
 
 
 def race(entrants: dict[str, str], args: tuple, kwargs: dict[str, Any],
@@ -71,62 +156,147 @@ def race(entrants: dict[str, str], args: tuple, kwargs: dict[str, Any],
         If an entrant failed (its error output is in the message).
     """
     began = time.perf_counter()
-    limit = None if time_limit is None else max(time_limit - START_SECONDS, 0.1)
-    selector = selectors.DefaultSelector()
-    running: dict[str, subprocess.Popen] = {}
-    errors: dict[str, Any] = {}
-    output: dict[str, bytes] = {}
-    answers: dict[str, MilpResult] = {}
+    limit = _entrant_limit(time_limit)
+    started: list[Entrant] = []
     try:
         for name, target in entrants.items():
-            errors[name] = tempfile.TemporaryFile()
-            environment, log_fd = progress.entrant_environment(name)
-            try:
-                process = subprocess.Popen([sys.executable, "-m", "milp.race", str(os.getpid())],
-                                           stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=errors[name],
-                                           env=environment, pass_fds=() if log_fd is None else (log_fd,))
-            finally:
-                if log_fd is not None:
-                    os.close(log_fd)
-            log.info("race: %s started (pid %d, %s)", name, process.pid,
-                     "no time limit" if limit is None else f"{limit:.1f} s")
-            process.stdin.write(pickle.dumps((target, args, {**kwargs, "time_limit": limit})))
-            process.stdin.close()
-            running[name] = process
-            output[name] = b""
-            selector.register(process.stdout, selectors.EVENT_READ, name)
-        while selector.get_map():
-            left = None if time_limit is None else time_limit + GRACE_SECONDS - (time.perf_counter() - began)
+            started.append(Entrant(name, target, args, kwargs, limit))
+        ends_at = None if time_limit is None else began + time_limit + GRACE_SECONDS
+        return _answers(started, ends_at)
+    finally:
+        for entrant in started:
+            entrant.stop()
+
+
+def _entrant_limit(time_limit: float | None) -> float | None:
+    """An entrant's time limit in a race of ``time_limit`` seconds."""
+    return None if time_limit is None else max(time_limit - START_SECONDS, 0.1)
+
+
+def _answers(entrants: list[Entrant], ends_at: float | None, until: threading.Event | None = None,
+             poll: float | None = None) -> dict[str, MilpResult]:
+    """The entrants' answers as they arrive, until one proves (then its answer alone),
+    every one has answered, ``ends_at`` (a :func:`time.perf_counter` value) passes, or
+    ``until`` is set (looked at every ``poll`` seconds)."""
+    answers: dict[str, MilpResult] = {}
+    with selectors.DefaultSelector() as selector:
+        for entrant in entrants:
+            if entrant.running:
+                selector.register(entrant.process.stdout, selectors.EVENT_READ, entrant)
+        while selector.get_map() and not (until is not None and until.is_set()):
+            left = None if ends_at is None else ends_at - time.perf_counter()
             if left is not None and left <= 0:
                 break
-            for key, _ in selector.select(timeout=left):
-                name = key.data
-                chunk = os.read(key.fd, 1 << 20)
-                if chunk:
-                    output[name] += chunk
+            wait = left if poll is None else (poll if left is None else min(poll, left))
+            for key, _ in selector.select(timeout=wait):
+                entrant = key.data
+                answer = entrant.read()
+                if answer is None:
                     continue
                 selector.unregister(key.fileobj)
-                process = running.pop(name)
-                process.wait()
-                if process.returncode != 0 or not output[name]:
-                    errors[name].seek(0)
-                    raise RuntimeError(f"{name} failed: {errors[name].read().decode(errors='replace')[-2000:]}")
-                answer = pickle.loads(output[name])
-                log.info("race: %s answered %s, value %s, bound %s", name, answer.status,
-                         _number(answer.objective), _number(answer.bound))
                 if answer.status in ("optimal", "infeasible"):
-                    if running:
-                        log.info("race: %s proved it; stopping %s", name, ", ".join(running))
-                    return {name: answer}
-                answers[name] = answer
-    finally:
-        selector.close()
-        for process in running.values():
-            process.kill()
-            process.wait()
-        for file in errors.values():
-            file.close()
+                    others = [e.name for e in entrants if e.running]
+                    if others:
+                        log.info("race: %s proved it; stopping %s", entrant.name, ", ".join(others))
+                    return {entrant.name: answer}
+                answers[entrant.name] = answer
     return answers
+
+
+#: Seconds between two looks of :func:`race_here`'s watching thread at the entrant here.
+WATCH_SECONDS = 0.1
+
+
+def race_here(name: str, function: Callable[..., MilpResult], others: dict[str, str], args: tuple,
+              kwargs: dict[str, Any], time_limit: float | None, *, others_after: float = 0.0,
+              others_kwargs: dict[str, Any] | None = None) -> dict[str, MilpResult]:
+    """Run ``function(*args, time_limit=..., **kwargs)`` here, against ``others`` elsewhere.
+
+    Parameters
+    ----------
+    name, function
+        The entrant run in this process and thread, for the whole ``time_limit``; it
+        must read :func:`milp.core.timelimit.stop_requested` where it reads its clock
+        (:mod:`milp.branchprice` does).
+    others : dict
+        Name -> ``"module:function"``, each run as in :func:`race`, started
+        ``others_after`` seconds from now unless ``function`` has returned by then, with
+        the time then left (less :data:`START_SECONDS`).
+    args, kwargs
+        Passed to every entrant; ``others_kwargs`` (default ``kwargs``) to the others.
+    time_limit : float or None
+        Seconds for the whole race.
+
+    Returns
+    -------
+    dict
+        Name -> answer, as :func:`race`: only the winner's when one proved its answer.
+
+    Raises
+    ------
+    RuntimeError
+        If an entrant failed.
+    """
+    began = time.perf_counter()
+    ends_at = None if time_limit is None else began + time_limit
+    # done: the entrant here returned; parked: the watcher reads no more; released: the
+    # watcher may end. It outlives its entrants: on Linux they are killed when the thread
+    # that started them ends (milp.core.orphans' PR_SET_PDEATHSIG follows the thread).
+    proved, done, parked, released = (threading.Event() for _ in range(4))
+    started: list[Entrant] = []
+    found: dict[str, MilpResult] = {}
+    failed: list[BaseException] = []
+
+    def watch() -> None:
+        try:
+            if done.wait(others_after):
+                return
+            left = None if ends_at is None else ends_at - time.perf_counter()
+            if left is not None and left <= START_SECONDS + 1.0:
+                return
+            for other, target in others.items():
+                started.append(Entrant(other, target, args, {**(others_kwargs or kwargs)}, _entrant_limit(left)))
+            answers = _answers(started, None, until=done, poll=WATCH_SECONDS)
+            found.update(answers)
+            if any(a.status in ("optimal", "infeasible") for a in answers.values()):
+                log.info("race: %s proved it; stopping %s here", next(iter(answers)), name)
+                proved.set()
+        except BaseException as exc:  # noqa: BLE001 - handed to the caller's thread
+            failed.append(exc)
+            proved.set()
+        finally:
+            parked.set()
+            released.wait()
+
+    watcher = threading.Thread(target=watch, name="milp-race-watch", daemon=True)
+    try:
+        with stopping(proved):
+            watcher.start()
+            answer = function(*args, time_limit=time_limit, **kwargs)
+        done.set()
+        parked.wait()
+        if failed:
+            raise RuntimeError(str(failed[0])) from failed[0]
+        if answer.status in ("optimal", "infeasible") and not proved.is_set():
+            if any(e.running for e in started):
+                log.info("race: %s proved it; stopping %s", name, ", ".join(e.name for e in started if e.running))
+            return {name: answer}
+        if any(a.status in ("optimal", "infeasible") for a in found.values()):
+            return dict(found)
+        rest = _answers([e for e in started if e.running],
+                        None if ends_at is None else ends_at + GRACE_SECONDS)
+        if any(a.status in ("optimal", "infeasible") for a in rest.values()):
+            return rest
+        return {name: answer, **found, **rest}
+    finally:
+        done.set()
+        if watcher.is_alive():
+            parked.wait(timeout=5.0)
+        for entrant in started:
+            entrant.stop()
+        released.set()
+        if watcher.is_alive():
+            watcher.join(timeout=5.0)
 
 
 def _number(value: float | None) -> str:

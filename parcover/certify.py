@@ -1,13 +1,27 @@
 """Re-proving a solution file's ``optimal``, ``infeasible`` and ``bound`` claims.
 
 ``parcover verify --certify`` and ``pc.verify(..., certify=True)`` ask the file's own
-question again with an exact method other than the one the file names (docs/format.md
-section 4), so that a claim is never checked by the code that made it:
+question again with an exact method other than the one that proved the file's claims
+(docs/format.md section 4), so that a claim is never checked by the code that made it.
+The file's proof is its ``model`` (the model ``exact`` chose, e.g. ``branchprice``; files
+written before that key existed do not have it) or else its ``method``; when the method
+is ``exact`` without a ``model``, every model ``exact`` may answer with at that size
+(:func:`parcover.exact.exact_models`) is left out. The certifier is the first of those
+that can reach the question (:func:`certifier_for`) that is not left out:
 
-- the first of ``setpart`` (at most :data:`milp.setpart.MAX_KPOIS` KPOIs),
-  ``branchprice`` and ``compact`` that is not the file's method nor one that ``exact``
-  may answer with at this size (:func:`parcover.exact.exact_models`) when the file's
-  method is ``exact``.
+- ``setpart`` up to :data:`milp.setpart.MAX_KPOIS` KPOIs;
+- for the least makespan with at most :data:`parcover.exact.RACE_ROUTES` robots on up to
+  :data:`parcover.exact.RACE_MAX_KPOIS` KPOIs, ``branchcut``, then ``branchprice``
+  (Necula's eil51, berlin52 and eil76 with 2 tours: only branch-and-cut proves them in
+  minutes, so their branch-and-cut proofs stay undecided; eil51 with 3 tours, proven by
+  branch-and-price in 84 s: branch-and-cut's bound was 152.94 after 600 s and 154.49
+  after 1800 s against the optimum 159.57, on a machine shared with other work);
+- else ``branchprice`` (up to :data:`milp.branchprice.MAX_KPOIS` KPOIs), then
+  ``branchcut`` for the least makespan (up to its :data:`milp.branchcut.MAX_KPOIS`);
+- ``compact`` last: it proves small instances only.
+
+The certifier starts from the file's routes (they passed the verifier), so it has to
+prove only that nothing is better; its proof of the bound is its own.
 
 Outcomes: ``certified`` (every such claim agrees with the proven answer), ``refuted``
 (one contradicts a proven optimum, or a claimed bound is above a solution the certifier
@@ -30,17 +44,44 @@ from parcover.result import Result, RoutesKind, Status
 from parcover.verify import Certificate, Verdict
 from parcover.verify import verify as check
 
-__all__ = ["Certificate", "certify", "certifier_for", "verify"]
+__all__ = ["Certificate", "certify", "certifier_for", "reaching", "verify"]
 
 
-def certifier_for(instance: Instance, method: str | None, objective: str) -> str:
-    """The exact method independent of ``method`` on ``objective`` (module docstring)."""
-    from milp.setpart import MAX_KPOIS
+#: Exact models a file's ``model`` may name, each a method of its own (``bounds``: ``exact``
+#: found best's routes at the trivial lower bound).
+MODELS = ("setpart", "branchprice", "branchcut", "compact", "cvxpy", "bounds")
+
+
+def certifier_for(instance: Instance, method: str | None, objective: str, *, model: str | None = None,
+                  robots: int | None = None) -> str:
+    """The exact method independent of the file's proof on ``objective`` (module docstring).
+
+    ``method`` and ``model`` are the file's (``model`` None for files without it);
+    ``robots`` the robot limit of a least-makespan question (None: unknown).
+    """
     from parcover.exact import exact_models
 
-    used = {method} | (exact_models(instance.n, objective) if method == "exact" else set())
-    candidates = (("setpart",) if instance.n <= MAX_KPOIS else ()) + ("branchprice", "compact")
+    if isinstance(model, str) and model in MODELS:
+        used = {method, model}
+    else:
+        used = {method} | (exact_models(instance.n, objective, robots) if method == "exact" else set())
+    candidates = reaching(instance.n, objective, robots)
     return next((c for c in candidates if c not in used), "compact")
+
+
+def reaching(n: int, objective: str, robots: int | None = None) -> tuple[str, ...]:
+    """The exact methods that can prove a question on ``n`` KPOIs, most likely first."""
+    from milp.core.sizes import BRANCHCUT_MAX_KPOIS, BRANCHPRICE_MAX_KPOIS, SETPART_MAX_KPOIS
+    from parcover.exact import RACE_MAX_KPOIS, RACE_ROUTES
+
+    makespan = objective == "makespan"
+    cut = ("branchcut",) if makespan and n <= BRANCHCUT_MAX_KPOIS else ()
+    price = ("branchprice",) if n <= BRANCHPRICE_MAX_KPOIS else ()
+    if n <= SETPART_MAX_KPOIS:
+        return ("setpart", *price, *cut, "compact")
+    if makespan and robots is not None and robots <= RACE_ROUTES and n <= RACE_MAX_KPOIS:
+        return (*cut, *price, "compact")
+    return (*price, *cut, "compact")
 
 
 def certify(instance: Instance, fields: Mapping[str, Any], *, time_limit: float = 60.0) -> Certificate:
@@ -49,20 +90,21 @@ def certify(instance: Instance, fields: Mapping[str, Any], *, time_limit: float 
     ``fields`` is the parsed result JSON; its question (``routes_kind``, ``objective``,
     ``robots_limit`` / ``deadline``) is asked again within ``time_limit`` seconds.
     """
-    from parcover.solve import solve
-
     status, bound = fields.get("status"), fields.get("bound")
     if status not in ("optimal", "infeasible") and bound is None:
         return Certificate("nothing to certify", None)
     objective = fields.get("objective")
     kind = fields.get("routes_kind", "paths")
-    method = certifier_for(instance, fields.get("method"), "makespan" if objective == "makespan" else "robots")
+    robots = fields.get("robots_limit") if objective == "makespan" else None
+    method = certifier_for(instance, fields.get("method"), "makespan" if objective == "makespan" else "robots",
+                           model=fields.get("model"), robots=robots if isinstance(robots, int) else None)
     if objective == "makespan":
-        answer = solve(instance, kind, robots=fields.get("robots_limit"), method=method, time_limit=time_limit)
+        question: dict[str, Any] = {"robots": fields.get("robots_limit")}
         claimed = fields.get("makespan")
     else:
-        answer = solve(instance, kind, deadline=fields.get("deadline"), method=method, time_limit=time_limit)
+        question = {"deadline": fields.get("deadline")}
         claimed = fields.get("robots")
+    answer = _solve(instance, kind, question, method, fields.get("routes"), time_limit)
     reasons = []
     if answer.status is Status.INFEASIBLE:
         if status != "infeasible":
@@ -88,6 +130,23 @@ def certify(instance: Instance, fields: Mapping[str, Any], *, time_limit: float 
     return Certificate("undecided", method, [
         f"{method} did not prove within {time_limit:g} s (its bound {proven}, its value "
         f"{'-' if found is None else format(found, '.10g')})"])
+
+
+def _solve(instance: Instance, kind: str, question: dict[str, Any], method: str, routes: Any,
+           time_limit: float) -> Result:
+    """The certifier's answer to the file's question, from the file's routes when the
+    certifier takes a warm start and they fit the question (else from its own)."""
+    from milp.core.timelimit import TimeLimit
+    from parcover.errors import InputError
+    from parcover.solve import method_with_options, solve
+
+    limit = TimeLimit(time_limit)
+    if routes and "warm_start" in method_with_options(method).options:
+        try:
+            return solve(instance, kind, **question, method=method, time_limit=limit, warm_start=routes)
+        except InputError:  # routes that do not fit the question as asked again (e.g. no deadline)
+            pass
+    return solve(instance, kind, **question, method=method, time_limit=limit)
 
 
 _certify = certify  # the function, which the parameter ``certify`` of :func:`verify` hides

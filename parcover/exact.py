@@ -15,8 +15,9 @@ independently. Six methods:
   (``branchprice`` is often 5-50x faster there, ``setpart`` always done in 1-4 s); ``branchprice`` above, ``compact`` above its size limit;
   for the least makespan with at most :data:`RACE_ROUTES` robots on 21 to
   :data:`RACE_MAX_KPOIS` KPOIs,
-  ``branchprice`` for :data:`BRANCHPRICE_FIRST` seconds, then ``branchprice`` against
-  ``branchcut`` on two cores (:func:`_race_makespan`; one core: ``branchprice`` alone);
+  ``branchprice`` in this process for the whole time, against ``branchcut`` in another
+  from :data:`BRANCHPRICE_FIRST` seconds on, on two cores (:func:`_race_makespan`; the
+  first proof stops the other; one core: ``branchprice`` alone);
   on the first use after installation, when the time limit leaves no room to compile
   ``branchprice``'s pricing (:data:`milp.branchprice.COMPILE_SECONDS`), ``setpart`` to 20
   KPOIs and ``compact`` above;
@@ -90,8 +91,9 @@ QUICK_CHECK_SECONDS = 0.02
 #: question in under 1.5 s where ``setpart`` takes 1-3 s, and fails on a few in 60 s.
 BRANCHPRICE_FIRST = 2.0
 #: For the least makespan with at most this many robots above set partitioning's range,
-#: ``exact`` races these methods when ``branchprice`` has not proved the answer within
-#: :data:`BRANCHPRICE_FIRST` seconds and two cores are free (:func:`_race_makespan`).
+#: ``exact`` races these methods when two cores are free (:func:`_race_makespan`): the
+#: first in this process from the start, the second in another process once the first has
+#: not proved the answer within :data:`BRANCHPRICE_FIRST` seconds.
 #: Measured (``milp/README.md``, branch-and-cut): with 2 routes at n = 22-40 each of the
 #: two proves questions in seconds that the other takes 30 s or more for (or does not
 #: prove in 60 s), and branch-and-cut proved Necula's eil51, berlin52 and eil76 with 2
@@ -166,32 +168,29 @@ def exact(
 
 def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, seed: int,
                    warm_start: list[list[int]] | None) -> Solution:
-    """The least makespan with few robots: :func:`branch_and_price` for
-    :data:`BRANCHPRICE_FIRST` seconds, then, unless that proved it, ``branchprice``
-    against ``branchcut`` on two cores (:func:`milp.race.race`) for the time left, from
-    the best routes so far. ``info["model"]`` names the method whose routes are returned;
+    """The least makespan with few robots: :func:`milp.branchprice.min_makespan` in this
+    process for the whole time limit, and, unless it has proved the answer within
+    :data:`BRANCHPRICE_FIRST` seconds, ``branchcut`` in another process for the time left
+    (:func:`milp.race.race_here`); the first proof stops the other. ``info["model"]``
+    names the method whose routes are returned (the one that proved them, when proven);
     the bound is the larger of every method's certified bound."""
-    from milp import race
+    from milp import branchprice, race
 
     start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
-    log.info("exact: branch-and-price for at most %g s, then a race of %s", BRANCHPRICE_FIRST,
-             " and ".join(RACE_MODELS))
-    first = branch_and_price(instance, problem, time_limit=_share(time_limit, BRANCHPRICE_FIRST),
-                             seed=seed, warm_start=start)
-    left = time_limit.remaining()
-    if _decided(first) or (left is not None and left <= race.START_SECONDS + 1.0):
-        return first
-    answers = race.race({name: f"milp.{name}:min_makespan" for name in RACE_MODELS},
-                        (instance.distances, problem.robots),
-                        {"tours": problem.tours, "warm_start": first.routes}, left)
-    if not answers:
-        return first
+    log.info("exact: branch-and-price, and %s in another process after %g s unless proven by then",
+             " and ".join(RACE_MODELS[1:]), BRANCHPRICE_FIRST)
+    answers = race.race_here(RACE_MODELS[0], branchprice.min_makespan,
+                             {name: f"milp.{name}:min_makespan" for name in RACE_MODELS[1:]},
+                             (instance.distances, problem.robots), {"tours": problem.tours, "warm_start": start},
+                             time_limit.remaining(), others_after=BRANCHPRICE_FIRST)
     answered = {n: a for n, a in answers.items() if a.objective is not None}
     if not answered:
-        return first
-    name, answer = min(answered.items(), key=lambda item: item[1].objective)
+        return Solution(routes=start or [], info={"model": RACE_MODELS[0], "message": "; ".join(
+            f"{n}: {a.message}" for n, a in answers.items()) or "no answer"})
+    name, answer = min(answered.items(), key=lambda item: (item[1].status not in ("optimal", "infeasible"),
+                                                           item[1].objective))
     solution = _solution(answer)
-    bounds = [b for b in [first.bound, *(a.bound for a in answers.values())] if b is not None]
+    bounds = [a.bound for a in answers.values() if a.bound is not None]
     if solution.status is None and bounds:
         solution.bound = max(bounds)
     solution.info["model"] = name
@@ -241,14 +240,18 @@ def _setpart(model: Any, instance: Instance, problem: Problem, time_limit: TimeL
     return solution
 
 
-def exact_models(n: int, objective: str) -> set[str]:
+def exact_models(n: int, objective: str, robots: int | None = None) -> set[str]:
     """The methods ``exact`` may answer with on ``n`` KPOIs for ``objective``
-    (``"makespan"`` or ``"robots"``; module docstring)."""
+    (``"makespan"`` or ``"robots"``; module docstring), with at most ``robots`` robots
+    for the least makespan (``None``: any number)."""
     if n <= SETPART_FIRST[objective]:
         return {"setpart", "bounds"}
     if n <= SETPART_MAX_KPOIS:
         return {"branchprice", "setpart"}
-    return {"branchprice", "compact"} | ({"branchcut"} if objective == "makespan" else set())
+    if n > BRANCHPRICE_MAX_KPOIS:
+        return {"compact"}
+    races = objective == "makespan" and n <= RACE_MAX_KPOIS and (robots is None or robots <= RACE_ROUTES)
+    return {"branchprice", "compact"} | ({"branchcut"} if races else set())
 
 
 def _decided(solution: Solution) -> bool:

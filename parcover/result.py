@@ -69,6 +69,11 @@ class Result:
         The constraint the routes were checked against (``None`` when absent).
     method
         Name of the method that produced the routes.
+    model
+        (A property over ``info["model"]``.) The exact model within ``method`` whose
+        answer this is, e.g. ``"branchprice"`` or ``"branchcut"`` for ``exact``: the one
+        that proved an ``optimal`` or ``infeasible`` status. ``None`` when the method
+        names none.
     status
         See :class:`Status`.
     robots, makespan
@@ -111,6 +116,12 @@ class Result:
         return self.makespan if self.objective == "makespan" else self.robots
 
     @property
+    def model(self) -> str | None:
+        """The exact model that answered within :attr:`method` (``info["model"]``), or None."""
+        model = self.info.get("model")
+        return model if isinstance(model, str) and model else None
+
+    @property
     def has_routes(self) -> bool:
         return bool(self.routes)
 
@@ -122,8 +133,8 @@ class Result:
         return None
 
     def to_dict(self) -> dict[str, Any]:
-        """The JSON object of docs/format.md section 4, with ``note`` (:attr:`note`) when there
-        is one (an optional key, a compatible extension)."""
+        """The JSON object of docs/format.md section 4, with ``model`` (:attr:`model`) and
+        ``note`` (:attr:`note`) when there is one (optional keys, compatible extensions)."""
         return {
             "instance": self.instance,
             "routes_kind": self.routes_kind,
@@ -131,6 +142,7 @@ class Result:
             "robots_limit": self.robots_limit,
             "deadline": self.deadline,
             "method": self.method,
+            **({"model": self.model} if self.model else {}),
             "status": self.status.value,
             "robots": self.robots,
             "makespan": self.makespan,

@@ -33,8 +33,10 @@ _VALUE_RTOL = 1e-9
 # Share of a time limit kept back from the method for verifying its routes, the
 # spanning-tree bound, printing and the process's exit (a few milliseconds, but 0.2 s
 # of exit after numba was loaded), and for the methods' uninterruptible steps (numba
-# loading its compiled labelling: 0.3 s): measured at 200 KPOIs.
-_CHECK_SHARE = 0.1
+# loading its compiled labelling: 0.3 s): measured at 200 KPOIs. At most _CHECK_SECONDS:
+# a share without a cap made a proof depend on a longer limit than it took (40 KPOIs,
+# 3 tours, proven at 110 s: with --time-limit 120 the method had 108 s).
+_CHECK_SHARE, _CHECK_SECONDS = 0.1, 2.0
 
 
 log = logging.getLogger(__name__)
@@ -145,7 +147,7 @@ def solve(
                        "(reading and building the instance); give a longer time limit"})
     else:
         left = time_limit.remaining()
-        seconds = None if left is None else (1 - _CHECK_SHARE) * left
+        seconds = None if left is None else left - min(_CHECK_SHARE * left, _CHECK_SECONDS)
         log.info("solve: %s, %s, method %s, %s", instance.name or "instance", _question_text(instance, problem),
                  method, "no time limit" if seconds is None else f"{seconds:.3g} s for the method")
         solution = info.function(instance, _at_most_n_robots(instance, problem), time_limit=seconds, seed=seed,

@@ -170,3 +170,25 @@ def test_branchcut_refuses_more_than_its_kpois():
     instance = generate.random_points(branchcut.MAX_KPOIS + 1, 1)
     with pytest.raises(InputError, match="at most 100 KPOIs"):
         solve(instance, "tours", robots=2, method="branchcut", time_limit=5)
+
+
+@pytest.mark.parametrize("limit,method_seconds", [(5.0, 4.5), (120.0, 118.0), (300.0, 298.0)])
+def test_a_long_limit_keeps_back_seconds_not_a_share(monkeypatch, limit, method_seconds):
+    """The method gets the limit less 10% for checking, but never less than all but 2 s:
+    a share without a cap made a proof at 110 s need --time-limit 300 (the method had
+    108 s of 120)."""
+    import sys
+
+    from parcover.problem import MethodInfo, Solution
+
+    solve_module = sys.modules["parcover.solve"]  # parcover.solve is also the function
+
+    given = []
+
+    def record(instance, problem, *, time_limit=None, seed=0):
+        given.append(time_limit)
+        return Solution(routes=[list(range(1, instance.n + 1))])
+
+    monkeypatch.setitem(solve_module.METHODS, "recorder", MethodInfo("recorder", record, "records its time limit"))
+    solve(generate.random_points(5, 1), robots=2, method="recorder", time_limit=limit)
+    assert given and given[0] == pytest.approx(method_seconds, abs=0.05)

@@ -108,15 +108,20 @@ def test_certify_refutes_a_greedy_answer_claimed_optimal(capsys, files):
 
 
 def test_certify_uses_a_method_other_than_the_files():
+    """Files without ``model`` (written before it existed): every model ``exact`` may
+    answer with at that size is left out (tests/test_certify_models.py: with ``model``)."""
     small, fifteen, middle, large = (pc.generate.random_points(n, 1) for n in (8, 15, 20, 25))
     for objective in ("makespan", "robots"):
         assert certifier_for(small, "exact", objective) == "branchprice"
         assert certifier_for(small, "nn", objective) == "setpart"
-        assert certifier_for(middle, "exact", objective) == "compact"  # exact may answer by either
         assert certifier_for(middle, "branchprice", objective) == "setpart"
         assert certifier_for(large, "exact", objective) == "compact"
-        assert certifier_for(large, "branchprice", objective) == "compact"
         assert certifier_for(large, "compact", objective) == "branchprice"
+    # exact never answers with branch-and-cut up to 20 KPOIs; it answers only the makespan
+    assert certifier_for(middle, "exact", "makespan") == "branchcut"
+    assert certifier_for(middle, "exact", "robots") == "compact"
+    assert certifier_for(large, "branchprice", "makespan") == "branchcut"
+    assert certifier_for(large, "branchprice", "robots") == "compact"
     # at 15 KPOIs exact answers the makespan by setpart, the fewest robots by either
     assert certifier_for(fifteen, "exact", "makespan") == "branchprice"
     assert certifier_for(fifteen, "exact", "robots") == "compact"

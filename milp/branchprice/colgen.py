@@ -86,7 +86,7 @@ import numpy as np
 from scipy import sparse
 
 from milp.bounds import makespan_lower_bound as tree_lower_bound
-from milp.core.timelimit import TimeLimit, TimeLimitLike
+from milp.core.timelimit import TimeLimit, TimeLimitLike, stop_requested
 from milp.bounds import robots_lower_bound as tree_robots_bound
 from milp.core.highs import LpSolve, make_lp, new_highs, solve_lp
 from milp.core.merge import merge_zero_distances
@@ -326,8 +326,8 @@ def _fewest_routes_lp(
         value = float(h.getInfo().objective_function_value)
         duals = np.maximum(np.asarray(h.getSolution().row_dual, dtype=np.float64), 0.0)
         pi = duals if center is None else SMOOTHING * center + (1 - SMOOTHING) * duals
-        if ends_at is not None and time.perf_counter() + pricer.pricing_seconds(L) > ends_at:
-            return farley, value, iterations, "time limit"
+        if stop_requested() or (ends_at is not None and time.perf_counter() + pricer.pricing_seconds(L) > ends_at):
+            return farley, value, iterations, "time limit"  # stop_requested: a race's other entrant proved it
         M, walks, needs = pricer.price(pi, L)
         iterations += 1
         improved = M > 0 and float(pi.sum()) / (M * (1 + CERT_TOL)) > farley
@@ -426,7 +426,7 @@ def makespan_bound(
     lo, hi = floor, upper
     info.message = "converged"
     while hi - lo > BISECTION_TOL * hi:
-        if ends_at is not None and time.perf_counter() >= ends_at:
+        if time_limit.expired():  # its clock, or a race's other entrant proved it (milp.core.timelimit.stopping)
             info.message = "time limit"
             break
         T = 0.5 * (lo + hi)

@@ -11,14 +11,48 @@ or a :class:`TimeLimit` (shared with the caller); :meth:`TimeLimit.of` reads eit
 moment it ends is :attr:`TimeLimit.ends_at`; code that reads the clock itself (numba's
 labelling) takes that number, under the same name. *Deadline* is kept for the problem's
 coverage deadline (the paper's :math:`c_p`), never for the wall clock.
+
+A solve can also be stopped before its time is up: :func:`stopping` hands the current
+thread an event (set from another thread, e.g. when another entrant of a race has proved
+the answer, :func:`milp.race.race_here`), and :func:`stop_requested` is true once it is
+set. Code that reads its clock checks it there (:mod:`milp.branchprice`'s search); a
+:class:`TimeLimit` of that thread then counts as :meth:`~TimeLimit.expired` with nothing
+:meth:`~TimeLimit.remaining`.
 """
 
 from __future__ import annotations
 
+import threading
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import Union
 
-__all__ = ["TimeLimit", "TimeLimitLike"]
+__all__ = ["TimeLimit", "TimeLimitLike", "stopping", "stop_requested"]
+
+_STOPS: dict[int, threading.Event] = {}
+
+
+@contextmanager
+def stopping(event: threading.Event) -> Iterator[threading.Event]:
+    """Within the block, the current thread's work stops once ``event`` is set
+    (:func:`stop_requested`); blocks nest, the inner event counting."""
+    thread = threading.get_ident()
+    outer = _STOPS.get(thread)
+    _STOPS[thread] = event
+    try:
+        yield event
+    finally:
+        if outer is None:
+            _STOPS.pop(thread, None)
+        else:
+            _STOPS[thread] = outer
+
+
+def stop_requested() -> bool:
+    """Whether the current thread was asked to stop (:func:`stopping`)."""
+    event = _STOPS.get(threading.get_ident())
+    return event is not None and event.is_set()
 
 
 class TimeLimit:
@@ -49,11 +83,13 @@ class TimeLimit:
 
     def remaining(self) -> float | None:
         """Seconds left (never negative), or ``None`` without a limit."""
+        if stop_requested():
+            return 0.0
         return None if self.ends_at is None else max(self.ends_at - time.perf_counter(), 0.0)
 
     def expired(self) -> bool:
-        """Whether the time is spent."""
-        return self.ends_at is not None and time.perf_counter() >= self.ends_at
+        """Whether the time is spent (or the work asked to stop: :func:`stopping`)."""
+        return stop_requested() or (self.ends_at is not None and time.perf_counter() >= self.ends_at)
 
     def fraction(self, share: float) -> TimeLimit:
         """A time limit ending after ``share`` (0 to 1) of the time now remaining."""

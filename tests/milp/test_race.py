@@ -38,3 +38,70 @@ def test_unproven_answers_come_back_within_the_time_limit():
 def test_an_entrant_that_fails_is_reported():
     with pytest.raises(RuntimeError, match="k must be at least 1"):
         race.race({"branchcut": "milp.branchcut:min_makespan"}, (euclidean(5, 1), 0), {"tours": True}, 30)
+
+
+def _waits_for_the_stop(D, k, *, tours, time_limit, warm_start=None):
+    """An entrant here that proves nothing: it waits until stopped or out of time, as
+    branch-and-price does between pricing rounds."""
+    from milp.core.result import MilpResult
+    from milp.core.timelimit import TimeLimit, stop_requested
+
+    clock = TimeLimit(time_limit)
+    while not clock.expired():
+        time.sleep(0.02)
+    return MilpResult("unknown", [], None, None, None, 0, 0.0, "stopped" if stop_requested() else "time limit")
+
+
+def test_a_proof_elsewhere_stops_the_entrant_here():
+    """branch-and-cut proves a small question in another process; the entrant here sees
+    the stop within a look of the watching thread, and no entrant is left running."""
+    import psutil
+
+    D = euclidean(12, 3)
+    began = time.perf_counter()
+    answers = race.race_here("here", _waits_for_the_stop, {"branchcut": BOTH["branchcut"]}, (D, 2),
+                             {"tours": True}, 60.0)
+    assert time.perf_counter() - began < 30
+    assert list(answers) == ["branchcut"] and answers["branchcut"].status == "optimal"
+    check_solution(D, answers["branchcut"], tours=True, k=2)
+    assert not psutil.Process().children(recursive=True)
+
+
+def test_a_proof_here_ends_the_race_before_the_others_start():
+    """branch-and-price proves in this process before ``others_after``: nothing else runs."""
+    from milp import branchprice
+
+    D = euclidean(12, 3)
+    answers = race.race_here("branchprice", branchprice.min_makespan, {"branchcut": BOTH["branchcut"]}, (D, 2),
+                             {"tours": True}, 60.0, others_after=30.0)
+    assert list(answers) == ["branchprice"] and answers["branchprice"].status == "optimal"
+
+
+def test_unproven_answers_here_and_elsewhere_come_back():
+    """Nothing proven within 4 s: the answer here and the other's (when it answered in
+    time) come back, and the race keeps to its limit and the grace."""
+    import psutil
+
+    D = euclidean(60, 3)
+    began = time.perf_counter()
+    answers = race.race_here("here", _waits_for_the_stop, {"branchcut": BOTH["branchcut"]}, (D, 2),
+                             {"tours": True}, 4.0)
+    assert time.perf_counter() - began <= 4.0 + race.GRACE_SECONDS + 0.5
+    assert "here" in answers and answers["here"].message == "time limit"
+    assert not psutil.Process().children(recursive=True)
+
+
+def test_the_stop_is_per_thread():
+    import threading
+
+    from milp.core.timelimit import TimeLimit, stop_requested, stopping
+
+    event = threading.Event()
+    seen = []
+    with stopping(event):
+        event.set()
+        assert stop_requested() and TimeLimit(10).expired() and TimeLimit(10).remaining() == 0.0
+        other = threading.Thread(target=lambda: seen.append(stop_requested()))
+        other.start()
+        other.join()
+    assert seen == [False] and not stop_requested()
