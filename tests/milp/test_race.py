@@ -23,12 +23,13 @@ def test_the_first_proof_ends_the_race():
 
 
 def test_unproven_answers_come_back_within_the_time_limit():
-    """60 KPOIs, 2 tours, 5 s: neither proves; both answers (valid, with bounds) are back
-    within the limit and the grace."""
+    """60 KPOIs, 2 tours, 10 s: neither proves; both answers (valid, with bounds) are back
+    within the limit and the grace. (With 5 s, a loaded machine spent the whole limit
+    starting the two interpreters, and neither had an answer yet.)"""
     D = euclidean(60, 3)
     began = time.perf_counter()
-    answers = race.race(BOTH, (D, 2), {"tours": True}, 5.0)
-    assert time.perf_counter() - began <= 5.0 + race.GRACE_SECONDS + 0.5
+    answers = race.race(BOTH, (D, 2), {"tours": True}, 10.0)
+    assert time.perf_counter() - began <= 10.0 + race.GRACE_SECONDS + 0.5
     assert set(answers) == set(BOTH)
     for answer in answers.values():
         assert answer.status == "feasible"
