@@ -465,7 +465,8 @@ def _solution(answer: Any) -> Solution:
 
 METHODS = (
     MethodInfo("exact", exact, f"proven optimum: setpart up to {SETPART_FIRST['makespan']} KPOIs, branchprice then "
-               f"setpart to {SETPART_MAX_KPOIS}, branchprice above (default)",
+               f"setpart to {SETPART_MAX_KPOIS}, branchprice to {BRANCHPRICE_MAX_KPOIS} (least makespan with at most "
+               f"{RACE_ROUTES} robots to {RACE_MAX_KPOIS} KPOIs: raced against branchcut), compact above (default)",
                ("warm_start", "export_model")),
     MethodInfo("compact", compact, "proven optimum: compact arc-flow MILP in HiGHS", ("warm_start", "export_model")),
     MethodInfo("branchprice", branch_and_price,
