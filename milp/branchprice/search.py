@@ -224,14 +224,14 @@ class _Search:
         return None if self.ends_at is None else max(self.ends_at - time.perf_counter(), 0.0)
 
     def price(self, prize: np.ndarray, budget: float, node: Node, *, exact: bool,
-              threshold: float = 1.0, cuts: np.ndarray | None = None,
-              memories: np.ndarray | None = None,
+              threshold: float = 1.0, cut_bits: np.ndarray | None = None,
+              cut_memory: np.ndarray | None = None,
               penalties: np.ndarray | None = None) -> ngroute.PricingResult:
         """One pricing at ``node``, stopped by the search's time limit."""
         return self.pricing.price(prize, budget, allowed=node.allowed, can_end=node.allowed[:, 0],
                                   exact=exact, threshold=threshold,
                                   ends_at=math.inf if self.ends_at is None else self.ends_at,
-                                  cuts=cuts, memories=memories, penalties=penalties)
+                                  cut_bits=cut_bits, cut_memory=cut_memory, penalties=penalties)
 
     def _master(self, columns: list[int]) -> highspy.Highs:
         """The LP (1)-(2) over ``columns`` of the pool, with the subset-row cuts (5)."""
@@ -347,7 +347,7 @@ class _Search:
         penalties = np.zeros(ngroute.MAX_CUTS)
         penalties[:len(self.cuts)] = y[self.m:]
         return self.price(np.concatenate(([0.0], y[:self.m])), budget, node, exact=exact,
-                          threshold=threshold, cuts=self.cut_bits, memories=self.cut_memory,
+                          threshold=threshold, cut_bits=self.cut_bits, cut_memory=self.cut_memory,
                           penalties=penalties)
 
     def _route_value(self, route: np.ndarray, y: np.ndarray) -> float:

@@ -99,7 +99,7 @@ def test_growing_the_neighbourhoods_finds_the_ng_optimum(seed, tours):
     rng = np.random.default_rng(seed)
     allowed, can_end = open_arcs(m)
     growing, full = Pricing(D, tours=tours, ng_size=4), Pricing(D, tours=tours, ng_size=4)
-    full.remembered = full.memories.copy()
+    full.remembered = full.neighbourhoods.copy()
     for _ in range(3):  # the neighbourhoods grown by one call serve the next
         prize = np.concatenate(([0.0], rng.uniform(0.0, 1.0, m)))
         budget = (2.0 if tours else 1.0) * D[0, 1:].max() * rng.uniform(1.5, 3.0)
@@ -295,7 +295,7 @@ def test_pricing_with_cuts_is_the_elementary_optimum(seed):
     allowed, can_end = open_arcs(m)
     found = Pricing(D, tours=False, ng_size=m).price(
         prize, budget, allowed=allowed, can_end=can_end, exact=True, threshold=0.0,
-        cuts=cuts, memories=mems, penalties=penalties)
+        cut_bits=cuts, cut_memory=mems, penalties=penalties)
     best = 0.0
     for size in range(1, m + 1):
         for order in itertools.permutations(range(1, m + 1), size):
