@@ -31,6 +31,9 @@ import importlib
 import importlib.abc
 import importlib.util
 import sys
+from collections.abc import Sequence
+from importlib.machinery import ModuleSpec
+from types import ModuleType
 from typing import Any
 
 #: Former module paths -> where the module lives now.
@@ -78,13 +81,14 @@ def __getattr__(name: str) -> Any:
 class _FormerPaths(importlib.abc.MetaPathFinder, importlib.abc.Loader):
     """``import milp.arcflow`` (a former path) gives the module where it lives now."""
 
-    def find_spec(self, fullname: str, path: Any = None, target: Any = None) -> Any:
+    def find_spec(self, fullname: str, path: Sequence[str] | None = None,
+                  target: ModuleType | None = None) -> ModuleSpec | None:
         return importlib.util.spec_from_loader(fullname, self) if fullname in _MOVED else None
 
-    def create_module(self, spec: Any) -> None:
+    def create_module(self, spec: ModuleSpec) -> None:
         return None  # a placeholder, replaced in exec_module
 
-    def exec_module(self, module: Any) -> None:
+    def exec_module(self, module: ModuleType) -> None:
         # The import system returns whatever sys.modules holds under the name afterwards.
         sys.modules[module.__name__] = importlib.import_module(_MOVED[module.__name__])
 

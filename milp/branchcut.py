@@ -57,14 +57,8 @@ a solution has none (it is then optimal: the MIP is a relaxation) or the time is
 Every MIP is a relaxation, so its dual bound and the root LP value are certified lower
 bounds whatever happens.
 
-Measured (2026-11-27, least makespan, warm start from ``best``, 60 s, one core each, side
-by side with :func:`milp.branchprice.min_makespan`; random Euclidean instances of
-``benchmarks.common``, seeds 211-212, never used before): k = 2 paths and tours, n = 20
-and 25: branch-and-price faster on 8 of 8 (0.2-6 s against 0.3-46 s); n = 30: this model
-faster on 1 of 4 (tours seed 212, 8.9 against 26.4 s); n = 40: this model proves both
-(18.8 and 10.9 s), branch-and-price neither in 60 s; k = 3, n = 30: branch-and-price 5-20x
-faster. Necula's cells with 2 tours, 420 s: eil51 optimal in 22.7 s and berlin52 in
-18.4 s (CPLEX's published bounds leave it open), where branch-and-price ran out of time.
+Against branch-and-price it wins with two long routes at 30-40 KPOIs and loses with
+three or more (measurements: ``milp/README.md``, "Branch-and-cut").
 """
 
 from __future__ import annotations

@@ -50,7 +50,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from milp.core.jit import njit
-from milp.branchprice.ngroute import _completion_table, _grid_step, _grow
+from milp.branchprice.ngroute import BUDGET_ROUND, WORD, _completion_table, _grid_step, _grow
 
 __all__ = ["Family", "routes_within_gap"]
 
@@ -122,7 +122,7 @@ def routes_within_gap(
         The sets, or None when the listing gave up.
     """
     m1 = len(D)
-    words = (m1 + 63) // 64
+    words = (m1 + WORD - 1) // WORD
     grid = _grid_step(budget, float(D[~np.eye(m1, dtype=bool)].min()) if m1 > 1 else 1.0)
     if grid is None:
         return None  # no completion bound: the listing would not be pruned
@@ -140,7 +140,7 @@ def routes_within_gap(
         parent, last, length, gained = _extend(sets, last, length, gained, D, back, prize, allowed,
                                                budget, threshold, table, delta, G)
         sets = sets[parent]
-        sets[np.arange(len(last)), last // 64] |= np.left_shift(np.uint64(1), (last % 64).astype(np.uint64))
+        sets[np.arange(len(last)), last // WORD] |= np.left_shift(np.uint64(1), (last % WORD).astype(np.uint64))
         sets, last, length, gained, parent = _shortest_per_end(sets, last, length, gained, parent)
         total += len(last)
         if total > max_states or time.perf_counter() >= ends_at:
@@ -191,7 +191,7 @@ def _shortest_extension(family: np.ndarray, lengths: np.ndarray, m1: int) -> np.
     known = known[order]
     extended = np.full(len(family), np.inf)
     for v in range(1, m1):
-        w, bit = divmod(v, 64)
+        w, bit = divmod(v, WORD)
         flag = np.uint64(1) << np.uint64(bit)
         lacking = np.flatnonzero((family[:, w] & flag) == 0)
         grown = family[lacking].copy()
@@ -231,13 +231,13 @@ def _extend(sets, last, length, gained, D, back, prize, allowed, budget, thresho
     for s in range(len(last)):
         i = last[s]
         for j in range(1, m1):
-            if sets[s, j // 64] & (np.uint64(1) << np.uint64(j % 64)) or not allowed[i, j]:
+            if sets[s, j // WORD] & (np.uint64(1) << np.uint64(j % WORD)) or not allowed[i, j]:
                 continue
             reach = length[s] + D[i, j]
             if reach + back[j] > budget:
                 continue
             p = gained[s] + prize[j]
-            b = int(math.floor((budget - reach) / delta * (1.0 + 1e-12))) + 1
+            b = int(math.floor((budget - reach) / delta * (1.0 + BUDGET_ROUND))) + 1
             if b < 0 or p + table[min(b, G), j] < threshold:
                 continue
             if count == size:

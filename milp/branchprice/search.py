@@ -99,6 +99,8 @@ from __future__ import annotations
 import logging
 import math
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import highspy
@@ -115,14 +117,15 @@ from milp.core.highs import make_lp, new_highs
 from milp.core.merge import Merged, checked_start, merge_zero_distances, model_result
 from milp.core.result import MilpResult
 from milp.core.timelimit import stop_requested
-from milp.branchprice.tree import ROUND, Decision, Improve, Settled, rounded_up
-from milp.core.routes import check_distance_matrix, first_visits, least_makespan, makespan
+from milp.branchprice.tree import ROUND, Decision, Ending, Improve, Settled, Why, rounded_up
+from milp.core.routes import ABS_TOL, REL_TOL, check_distance_matrix, first_visits, least_makespan, makespan
 from milp.core.sizes import BRANCHPRICE_MAX_KPOIS
 from milp.warmstart import nearest_neighbour_order, split_min_makespan
 
 log = logging.getLogger(__name__)
 
-__all__ = ["min_robots", "min_makespan", "ready_within", "compile_pricing", "MAX_KPOIS", "COMPILE_SECONDS"]
+__all__ = ["min_robots", "min_makespan", "BranchAndPrice", "LpOutcome", "ready_within", "compile_pricing",
+           "MAX_KPOIS", "COMPILE_SECONDS"]
 
 #: Largest number of (merged) KPOIs (:data:`milp.core.sizes.BRANCHPRICE_MAX_KPOIS`).
 MAX_KPOIS = BRANCHPRICE_MAX_KPOIS
@@ -130,8 +133,21 @@ MAX_KPOIS = BRANCHPRICE_MAX_KPOIS
 CERT_TOL = 1e-9
 #: Weight of the stability center in the pricing duals.
 SMOOTHING = 0.5
-#: A makespan decision asks for routes within ``Z * (1 - STRICT)``.
+#: A makespan decision asks for routes within ``Z * (1 - STRICT)``; a makespan within
+#: ``1 + STRICT`` of a lower bound counts as proven (the relative tolerance of every exact
+#: method here).
 STRICT = 1e-9
+#: The LP counts as solved when the certified bound is within this relative distance of its
+#: value: Farley's bound reaches the LP value only in the limit, and HiGHS' duals are exact
+#: only to its own tolerances.
+LP_SOLVED = 1e-7
+#: A priced route enters the master only when its prize exceeds 1 by this much (reduced
+#: cost below ``-PRICES_OUT``): a route that prices out by round-off would be added again
+#: and again.
+PRICES_OUT = 1e-9
+#: Strong branching counts a child's gain as at least this, so that the product of the two
+#: gains still ranks the arcs when one child does not raise the LP value.
+LEAST_GAIN = 1e-6
 #: Share of a makespan time limit for the LP bisection (the bound reported if unproven),
 #: and the relative width at which the bisection stops.
 BISECTION_SHARE, LP_BOUND_TOL = 0.25, 1e-4
@@ -190,7 +206,7 @@ ENUMERATION_SLACK = 1e-9
 
 
 @dataclass
-class _LpOutcome:
+class LpOutcome:
     """Column generation at one node: the certified bound, the master's value and
     solution over ``columns`` (pool indices), and why it stopped."""
 
@@ -198,14 +214,16 @@ class _LpOutcome:
     value: float
     columns: list[int]
     x: np.ndarray
-    why: str
-    master: highspy.Highs | None = None  # the master LP just solved (set when why is "solved")
+    why: Why
+    master: highspy.Highs | None = None  # the master LP just solved (set when why is Why.SOLVED)
     duals: np.ndarray | None = None  # (pi, sigma) certifying ``bound`` (scaled by Farley's M)
 
 
-class _Search:
+class BranchAndPrice:
     """Column generation and branching over one pool (merged matrix, route kind): the
-    :class:`milp.branchprice.tree.Search` that :class:`milp.branchprice.tree.Decision` drives."""
+    :class:`milp.branchprice.tree.Search` that :class:`milp.branchprice.tree.Decision` drives.
+    ``ends_at``: a ``time.perf_counter()`` value at which every phase stops (None: no
+    limit); :meth:`until` gives one phase an earlier end."""
 
     def __init__(self, D: np.ndarray, *, tours: bool, ends_at: float | None) -> None:
         announce_compiling()
@@ -223,6 +241,16 @@ class _Search:
         self.enumeration_gap = ENUMERATION_GAP  # enumerate at nodes with a smaller LP gap (all decisions)
         self.makespan_bound = 0.0  # a lower bound on the least makespan (for min_makespan)
 
+    @contextmanager
+    def until(self, ends_at: float | None) -> Iterator[None]:
+        """Within the ``with`` block the search stops at ``ends_at`` (a ``time.perf_counter()``
+        value; None: no limit) instead of its own end, which holds again after it."""
+        own, self.ends_at = self.ends_at, ends_at
+        try:
+            yield
+        finally:
+            self.ends_at = own
+
     def out_of_time(self) -> bool:
         # stop_requested: a race's other entrant proved the answer (milp.race.race_here)
         return stop_requested() or (self.ends_at is not None and time.perf_counter() >= self.ends_at)
@@ -233,14 +261,14 @@ class _Search:
         return None if self.ends_at is None else max(self.ends_at - time.perf_counter(), 0.0)
 
     def price(self, prize: np.ndarray, budget: float, node: Node, *, exact: bool,
-              threshold: float = 1.0, cuts: np.ndarray | None = None,
-              memories: np.ndarray | None = None,
+              threshold: float = 1.0, cut_bits: np.ndarray | None = None,
+              cut_memory: np.ndarray | None = None,
               penalties: np.ndarray | None = None) -> ngroute.PricingResult:
         """One pricing at ``node``, stopped by the search's time limit."""
         return self.pricing.price(prize, budget, allowed=node.allowed, can_end=node.allowed[:, 0],
                                   exact=exact, threshold=threshold,
                                   ends_at=math.inf if self.ends_at is None else self.ends_at,
-                                  cuts=cuts, memories=memories, penalties=penalties)
+                                  cut_bits=cut_bits, cut_memory=cut_memory, penalties=penalties)
 
     def _master(self, columns: list[int]) -> highspy.Highs:
         """The LP (1)-(2) over ``columns`` of the pool, with the subset-row cuts (5)."""
@@ -270,7 +298,7 @@ class _Search:
                                         self.cut_memory, len(self.cuts))
         return sparse.vstack([coverage, sparse.csr_matrix(rows)]).tocsc()
 
-    def solve_node(self, node: Node, budget: float, target: float) -> _LpOutcome:
+    def solve_node(self, node: Node, budget: float, target: float) -> LpOutcome:
         """Column generation at ``node`` until its bound exceeds ``target`` (closed), the
         LP is solved, or time runs out; a solved fractional LP is strengthened by
         subset-row cuts and solved again while new violated cuts are found."""
@@ -278,18 +306,18 @@ class _Search:
         columns = self.pool.fitting(budget, node)
         covered = self._cover_all(columns, budget, node)
         if covered is not True:
-            why = "closed" if covered is False else "time limit"
-            return _LpOutcome(math.inf if covered is False else 0.0, math.inf, columns,
-                              np.zeros(0), why)
-        outcome = _LpOutcome(0.0, math.inf, columns, np.zeros(0), "")
+            why = Why.CLOSED if covered is False else Why.TIME_LIMIT
+            return LpOutcome(math.inf if covered is False else 0.0, math.inf, columns,
+                             np.zeros(0), why)
+        outcome = LpOutcome(0.0, math.inf, columns, np.zeros(0), Why.STALLED)  # nothing solved yet
         while True:
             outcome = self._column_generation(node, budget, target, columns, outcome)
-            if (outcome.why != "solved" or rounded_up(outcome.bound) > target
+            if (outcome.why != Why.SOLVED or rounded_up(outcome.bound) > target
                     or self.integral_routes(outcome) is not None or not self._separate(outcome)):
                 return outcome
 
     def _column_generation(self, node: Node, budget: float, target: float, columns: list[int],
-                           known: _LpOutcome, *, converge: bool = False) -> _LpOutcome:
+                           known: LpOutcome, *, converge: bool = False) -> LpOutcome:
         """Column generation over the master with the current cuts (``known``: a bound
         already certified at this node, with its duals). It stops when the certified
         bound rounds up to the LP value's integer or, with ``converge``, when it reaches
@@ -307,10 +335,10 @@ class _Search:
             duals = np.concatenate((np.maximum(row_dual[:self.m], 0.0), np.maximum(-row_dual[self.m:], 0.0)))
             x = np.asarray(h.getSolution().col_value, dtype=np.float64)
             if ((rounded_up(bound) >= rounded_up(value) and not converge)
-                    or bound >= value * (1 - 1e-7)):
-                return _LpOutcome(bound, value, columns, x, "solved", h, certificate)
+                    or bound >= value * (1 - LP_SOLVED)):
+                return LpOutcome(bound, value, columns, x, Why.SOLVED, h, certificate)
             if self.out_of_time():
-                return _LpOutcome(bound, value, columns, x, "time limit", duals=certificate)
+                return LpOutcome(bound, value, columns, x, Why.TIME_LIMIT, duals=certificate)
             found = 0
             for y, exact in self._duals_to_try(duals, center):
                 res = self._price_duals(y, budget, node, exact=exact,
@@ -321,17 +349,17 @@ class _Search:
                         bound, center = certified, y / max(res.best, 1.0)
                         certificate = center
                     if rounded_up(bound) > target:
-                        return _LpOutcome(bound, value, columns, x, "closed", duals=certificate)
-                useful = [r for r in res.routes if self._route_value(r, duals) > 1 + 1e-9]
+                        return LpOutcome(bound, value, columns, x, Why.CLOSED, duals=certificate)
+                useful = [r for r in res.routes if self._route_value(r, duals) > 1 + PRICES_OUT]
                 found = self._append(h, columns, useful, budget, node)
                 if found:
                     break
             if not found:
                 # the true duals priced out exactly: bound = the dual value = value, unless
                 # the clock stopped the exact pricing
-                why = ("solved" if bound >= value * (1 - 1e-7)
-                       else "time limit" if self.out_of_time() else "pricing stalled")
-                return _LpOutcome(bound, value, columns, x, why, h, certificate)
+                why = (Why.SOLVED if bound >= value * (1 - LP_SOLVED)
+                       else Why.TIME_LIMIT if self.out_of_time() else Why.STALLED)
+                return LpOutcome(bound, value, columns, x, why, h, certificate)
 
     def _farley(self, y: np.ndarray, best: float) -> float:
         """Farley's bound (4) for duals ``y = (pi, sigma)`` whose best route prize is ``best``:
@@ -356,7 +384,7 @@ class _Search:
         penalties = np.zeros(ngroute.MAX_CUTS)
         penalties[:len(self.cuts)] = y[self.m:]
         return self.price(np.concatenate(([0.0], y[:self.m])), budget, node, exact=exact,
-                          threshold=threshold, cuts=self.cut_bits, memories=self.cut_memory,
+                          threshold=threshold, cut_bits=self.cut_bits, cut_memory=self.cut_memory,
                           penalties=penalties)
 
     def _route_value(self, route: np.ndarray, y: np.ndarray) -> float:
@@ -368,7 +396,7 @@ class _Search:
             value -= float(y[self.m:] @ alpha[:, 0])
         return value
 
-    def _separate(self, outcome: _LpOutcome) -> bool:
+    def _separate(self, outcome: LpOutcome) -> bool:
         """Add the subset-row cuts (5) most violated by the master's solution; whether
         any was added."""
         room = ngroute.MAX_CUTS - len(self.cuts)
@@ -438,14 +466,14 @@ class _Search:
             columns.extend(fresh)
         return len(fresh)
 
-    def integral_routes(self, outcome: _LpOutcome) -> list[list[int]] | None:
+    def integral_routes(self, outcome: LpOutcome) -> list[list[int]] | None:
         """The master's solution as routes when every lambda is 0 or 1."""
         chosen = [c for c, v in zip(outcome.columns, outcome.x) if v > INTEGRAL]
         if any(abs(outcome.x[i] - 1) > INTEGRAL for i, v in enumerate(outcome.x) if v > INTEGRAL):
             return None
         return first_visits([self.pool.orders[c] for c in chosen])
 
-    def branching_arc(self, node: Node, outcome: _LpOutcome, target: int) -> tuple[int, int] | None:
+    def branching_arc(self, node: Node, outcome: LpOutcome, target: int) -> tuple[int, int] | None:
         """The arc to branch on: among the :data:`STRONG_CANDIDATES` most fractional, the
         one whose two children raise the node's master LP value most (product of the
         gains, each child's value capped at ``target + 1``, where it closes). A child's
@@ -461,12 +489,12 @@ class _Search:
             if self.out_of_time():
                 break
             values = [self._child_value(outcome, child) for child in node.children(arc, tours=self.tours)]
-            gains = [max(min(v, target + 1.0) - outcome.value, 1e-6) for v in values]
+            gains = [max(min(v, target + 1.0) - outcome.value, LEAST_GAIN) for v in values]
             if gains[0] * gains[1] > best:
                 best, chosen = gains[0] * gains[1], arc
         return chosen
 
-    def _child_value(self, outcome: _LpOutcome, child: Node) -> float:
+    def _child_value(self, outcome: LpOutcome, child: Node) -> float:
         """The node's master LP value with the columns ``child`` forbids fixed at 0,
         re-solved from the node's optimal basis (inf when infeasible); the bounds are
         restored after."""
@@ -482,7 +510,7 @@ class _Search:
         h.changeColsBounds(len(banned), banned, np.zeros(len(banned)), np.full(len(banned), highspy.kHighsInf))
         return value
 
-    def fractional_arcs(self, outcome: _LpOutcome) -> list[tuple[int, int]]:
+    def fractional_arcs(self, outcome: LpOutcome) -> list[tuple[int, int]]:
         """The arcs with fractional flow, closest to 1/2 first (``(i, 0)``: ending at ``i``).
 
         For tours the flow of an edge is that of both its directions (the arc returned is
@@ -515,7 +543,7 @@ class _Search:
 
     def fewest_routes(self, budget: float, incumbent: list[list[int]] | None, target: int,
                       *, first: bool, improve: Improve | None = None,
-                      ) -> tuple[list[list[int]] | None, int | None, str]:
+                      ) -> tuple[list[list[int]] | None, int | None, Ending]:
         """Branch-and-price for the fewest routes within ``budget``.
 
         Searches for routes within ``budget``, at most ``target`` of them (fewer than
@@ -529,19 +557,16 @@ class _Search:
         -------
         tuple
             ``(routes, root_bound, outcome)``: the best routes (``incumbent`` when none
-            better), the root's certified bound rounded up, and ``"exhausted"`` (the tree
-            is closed: no solution with at most ``target`` routes remains, ``target``
-            being one below the returned routes' count when any were found), ``"found"``
-            (``first``), ``"least"`` (``first``, and enumeration at the root proved that
-            no solution of at most ``target`` routes has a shorter longest route) or
-            ``"unknown"`` (time limit, or a node it could not branch on).
+            better), the root's certified bound rounded up, and how the tree ended
+            (:class:`milp.branchprice.tree.Ending`; with :attr:`~Ending.EXHAUSTED`,
+            ``target`` is one below the returned routes' count when any were found).
         """
         tree = Decision(self, budget, incumbent, target, first=first, improve=improve)
         outcome = tree.run()
         return tree.best, tree.root_bound, outcome
 
-    def enumerate_node(self, node: Node, outcome: _LpOutcome, budget: float, target: int, *,
-                   shortest: bool) -> tuple[_LpOutcome, Settled | None]:
+    def enumerate_node(self, node: Node, outcome: LpOutcome, budget: float, target: int, *,
+                   shortest: bool) -> tuple[LpOutcome, Settled | None]:
         """Answer ``node`` by route enumeration when its LP gap allows (:mod:`milp.branchprice.enumeration`).
 
         The LP is first solved to the end (its duals then give the smallest gap
@@ -562,7 +587,7 @@ class _Search:
         if not low <= target <= high or target - outcome.value >= self.enumeration_gap:
             return outcome, None
         outcome = self._column_generation(node, budget, target, outcome.columns, outcome, converge=True)
-        if outcome.why not in ("solved", "closed") or outcome.duals is None:
+        if outcome.why not in (Why.SOLVED, Why.CLOSED) or outcome.duals is None:
             return outcome, None
         if rounded_up(outcome.bound) > target:
             return outcome, Settled(None)
@@ -638,8 +663,8 @@ class _Search:
 
 
 
-def _count(routes: list[list[int]] | None) -> float:
-    return math.inf if routes is None else len(routes)
+#: The former name of :class:`BranchAndPrice` (for code written before the rename).
+_Search = BranchAndPrice
 
 
 def compile_pricing() -> None:
@@ -691,14 +716,14 @@ def min_robots(
     """
     began = time.perf_counter()
     D, merged = _prepare(D)
-    if deadline < least_makespan(D, tours=tours) * (1 - 1e-9) - 1e-9:
+    if deadline < least_makespan(D, tours=tours) * (1 - REL_TOL) - ABS_TOL:
         return MilpResult("infeasible", seconds=time.perf_counter() - began,
                           message="deadline below the least makespan")
     if merged.size == 0:
         return model_result("optimal", merged, D, [], 1.0, 1.0, 0, began, "every KPOI at the start")
-    budget = deadline * (1 + 1e-9) + 1e-9
+    budget = deadline * (1 + REL_TOL) + ABS_TOL  # milp.core.routes.within
     ends_at = None if time_limit is None else began + time_limit
-    search = _Search(merged.D, tours=tours, ends_at=ends_at)
+    search = BranchAndPrice(merged.D, tours=tours, ends_at=ends_at)
     start = checked_start(merged, D, warm_start, tours=tours, deadline=deadline, k=None)
     if start is None:
         start = [[j] for j in range(1, merged.size + 1)]
@@ -711,7 +736,7 @@ def min_robots(
         lambda floor: checked_start(merged, D, improve(floor), tours=tours, deadline=deadline, k=None))
     routes, root, outcome = search.fewest_routes(budget, start, len(start) - 1, first=False, improve=better)
     bound = max(trivial, root or 1)
-    if outcome == "exhausted" or len(routes) <= bound:
+    if outcome == Ending.EXHAUSTED or len(routes) <= bound:
         return model_result("optimal", merged, D, routes, len(routes), len(routes), search.nodes, began,
                        "branch-and-price tree closed")
     return model_result("feasible", merged, D, routes, len(routes), bound, search.nodes, began,
@@ -745,8 +770,8 @@ def min_makespan(
     if routes is None:
         routes = split_min_makespan(merged.D, nearest_neighbour_order(merged.D), k, tours=tours)
     value = makespan(merged.D, routes, tours=tours)
-    search = _Search(merged.D, tours=tours, ends_at=ends_at)
-    if value <= lower * (1 + 1e-9):
+    search = BranchAndPrice(merged.D, tours=tours, ends_at=ends_at)
+    if value <= lower * (1 + STRICT):
         return model_result("optimal", merged, D, routes, value, value, 0, began,
                        "warm start meets the lower bound")
     log.info("branch-and-price: makespan %.6g from the warm start, bound %.6g (gap %s)", value, lower,
@@ -755,22 +780,21 @@ def min_makespan(
         search, k, lower, value,
         None if time_limit is None else began + min(BISECTION_SHARE * time_limit, BISECTION_SECONDS))
     log.info("branch-and-price: root LP bound %.6g (gap %s)", lower, _gap(value, lower))
-    search.ends_at = ends_at
     while not search.out_of_time():
-        if value <= lower * (1 + 1e-9):
+        if value <= lower * (1 + STRICT):
             return model_result("optimal", merged, D, routes, value, value, search.nodes, began,
                            "lower bound reached")
         budget = value * (1 - STRICT)
         found, _, outcome = search.fewest_routes(budget, None, k, first=True)
-        if outcome == "least":
+        if outcome == Ending.LEAST:
             return model_result("optimal", merged, D, found, makespan(merged.D, found, tours=tours), lower,
                            search.nodes, began, "least makespan over the routes enumerated at the root")
-        if outcome == "found":
+        if outcome == Ending.FOUND:
             routes, value = found, makespan(merged.D, found, tours=tours)
             log.info("branch-and-price: makespan %.6g, bound %.6g (gap %s), %d nodes", value, lower,
                      _gap(value, lower), search.nodes)
             continue
-        if outcome == "exhausted":
+        if outcome == Ending.EXHAUSTED:
             return model_result("optimal", merged, D, routes, value, value, search.nodes, began,
                            "no solution within (1 - 1e-9) x the makespan")
         break
@@ -783,7 +807,7 @@ def _gap(value: float, bound: float) -> str:
     return f"{100 * (value - bound) / value:.2f}%" if value > 0 else "0%"
 
 
-def _makespan_lp_bound(search: _Search, k: int, lower: float, upper: float, ends_at: float | None) -> float:
+def _makespan_lp_bound(search: BranchAndPrice, k: int, lower: float, upper: float, ends_at: float | None) -> float:
     """A certified lower bound on the least makespan by ``ends_at`` (a ``time.perf_counter()``
     value; None: no limit), from ``lower`` (known too small) and ``upper`` (achievable).
 
@@ -792,38 +816,32 @@ def _makespan_lp_bound(search: _Search, k: int, lower: float, upper: float, ends
     each LP takes many pricings), the bisection of :mod:`milp.branchprice.colgen` over q-routes (its
     pricing a dynamic programme over discretised lengths) from that bound for half of what
     is left, then the ng-route bisection again from the larger bound. Each relaxation's
-    bound is certified; neither contains the other. Measured (2026-11-26, tours, `best`'s
-    makespan as ``upper``, 105 s as in a 420 s solve, ng-route bisection alone -> this):
-    Necula's berlin52 m = 2 3603.0 -> 3960.1, eil76 m = 2 261.5 -> 271.0, eil76 m = 3
-    191.8 -> 193.2, rat99 m = 3 436.44 (no ng-route step finished) -> 500.10, rat99 m = 5
-    446.87 -> 446.96; unseen TSPLIB instances pr76 m = 2 51,686 -> 54,334, kroA100 m = 3
-    7,320.8 -> 7,353.8, st70 m = 3 273.19 both, but st70 m = 2 354.96 -> 353.93 and pr76
-    m = 3 43,925 -> 43,566 (the q-route bound was below the ng-route one there, and its time
-    was lost). On n = 30-40 random instances (18 cells, 15 s) the ng-route bisection
-    converges within a second and the q-route one is never run."""
+    bound is certified; neither contains the other: the q-route bound helps where long
+    routes keep the ng-route bisection from converging, and is never run where it
+    converges (measurements: the decisions table of ``milp/README.md``)."""
     now = time.perf_counter()
-    search.ends_at = None if ends_at is None else now + NG_BISECTION_FIRST * (ends_at - now)
-    lower = _bisect_lp_bound(search, k, lower, upper)
-    converged = not search.out_of_time()
-    search.ends_at = ends_at
-    if converged or ends_at is None or stop_requested():  # stop_requested: as _Search.out_of_time
+    with search.until(None if ends_at is None else now + NG_BISECTION_FIRST * (ends_at - now)):
+        lower = _bisect_lp_bound(search, k, lower, upper)
+        converged = not search.out_of_time()
+    if converged or ends_at is None or stop_requested():  # stop_requested: as BranchAndPrice.out_of_time
         return lower
     now = time.perf_counter()
     lower = colgen.makespan_lower_bound(search.pricing.D, k, tours=search.tours, upper=upper,
                                         time_limit=0.5 * (ends_at - now), lower=lower)
-    return _bisect_lp_bound(search, k, lower, upper)
+    with search.until(ends_at):
+        return _bisect_lp_bound(search, k, lower, upper)
 
 
-def _bisect_lp_bound(search: _Search, k: int, lower: float, upper: float) -> float:
+def _bisect_lp_bound(search: BranchAndPrice, k: int, lower: float, upper: float) -> float:
     """Largest makespan proven too small by the root LP (bound above ``k``), by bisection
     between ``lower`` (known too small or trivial) and ``upper`` (achievable)."""
     root = Node.root(search.m)
     while upper - lower > LP_BOUND_TOL * upper and not search.out_of_time():
         mid = 0.5 * (lower + upper)
         outcome = search.solve_node(root, mid, k)
-        if outcome.why == "closed":
+        if outcome.why == Why.CLOSED:
             lower = mid
-        elif outcome.why == "time limit":
+        elif outcome.why == Why.TIME_LIMIT:
             break
         else:
             upper = mid

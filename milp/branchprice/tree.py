@@ -12,17 +12,19 @@ here too: the integer master over the pool at the root and whenever the pool has
 
 from __future__ import annotations
 
+import enum
 import logging
 import math
 from collections.abc import Callable, Sized
 from dataclasses import dataclass
-from typing import Any, Protocol, TypeVar
+from typing import Protocol, TypeVar
 
 from milp.branchprice.columns import Node
 
 log = logging.getLogger(__name__)
 
-__all__ = ["Decision", "Search", "NodeOutcome", "Settled", "Improve", "rounded_up", "ROUND", "POOL_GROWTH"]
+__all__ = ["Decision", "Search", "NodeOutcome", "Why", "Ending", "Settled", "Improve", "rounded_up", "ROUND",
+           "POOL_GROWTH"]
 
 #: A heuristic asked for routes (KPOIs ``1..n``) with at most the given number of routes
 #: within the deadline, or ``None``.
@@ -36,12 +38,40 @@ ROUND = 1e-6
 POOL_GROWTH = 2.0
 
 
+class Why(enum.StrEnum):
+    """Why the column generation at a node stopped (:attr:`NodeOutcome.why`). A
+    :class:`enum.StrEnum`, so each member also equals its string."""
+
+    #: The master LP is solved: its value is certified (the bound reached it).
+    SOLVED = "solved"
+    #: The certified bound shows more routes than the target are needed.
+    CLOSED = "closed"
+    #: The time limit came first.
+    TIME_LIMIT = "time limit"
+    #: No column prices out, but the bound is not certified up to the LP value.
+    STALLED = "pricing stalled"
+
+
+class Ending(enum.StrEnum):
+    """How the tree of one fewest-routes decision ended (:meth:`Decision.run`)."""
+
+    #: A solution beat the target and the caller asked for the first one (``first``).
+    FOUND = "found"
+    #: ``first``, and enumeration at the root found the least makespan of every solution
+    #: with at most the target routes.
+    LEAST = "least"
+    #: The tree is closed: no solution with at most the target routes remains.
+    EXHAUSTED = "exhausted"
+    #: The time limit, or a node left open (nothing to branch on, pricing stalled).
+    UNKNOWN = "unknown"
+
+
 @dataclass
 class Settled:
     """A node answered by route enumeration: its fewest routes when at most the target,
     else None (the node holds no such solution). ``least``: the routes have the least
     makespan of any solution of at most the target routes at the node (answered by
-    :meth:`milp.branchprice._Search._least_makespan_covering`)."""
+    :meth:`milp.branchprice.search.BranchAndPrice.enumerate_node` with ``shortest``)."""
 
     routes: list[list[int]] | None
     least: bool = False
@@ -49,13 +79,13 @@ class Settled:
 
 class NodeOutcome(Protocol):
     """What the tree reads of a node's column generation: its certified bound and why it
-    stopped (``"solved"``, ``"closed"``, ``"time limit"`` or ``"pricing stalled"``)."""
+    stopped."""
 
     @property
     def bound(self) -> float: ...
 
     @property
-    def why(self) -> str: ...
+    def why(self) -> Why: ...
 
 
 Outcome = TypeVar("Outcome", bound=NodeOutcome)
@@ -104,11 +134,11 @@ class Search(Protocol[Outcome]):
 
 
 class Decision:
-    """The tree of one fewest-routes search (:meth:`milp.branchprice._Search.fewest_routes`): depth first
+    """The tree of one fewest-routes search (:meth:`milp.branchprice.search.BranchAndPrice.fewest_routes`): depth first
     from the root, the best routes found so far and the target they leave (one route
     fewer), the root's bound."""
 
-    def __init__(self, search: Search[Any], budget: float, incumbent: list[list[int]] | None,
+    def __init__(self, search: Search[NodeOutcome], budget: float, incumbent: list[list[int]] | None,
                  target: int, *, first: bool, improve: Improve | None) -> None:
         self.search, self.budget, self.first, self.improve = search, budget, first, improve
         self.best, self.target = incumbent, target
@@ -116,35 +146,35 @@ class Decision:
         self.unresolved = False  # a node was left open (pricing stalled, nothing to branch on)
         self.pool_tried = 0  # the pool's size when the integer master last ran
 
-    def run(self) -> str:
-        """Search the tree; the outcome of :meth:`milp.branchprice._Search.fewest_routes`."""
+    def run(self) -> Ending:
+        """Search the tree; how it ended."""
         stack = [Node.root(self.search.m)]
         while stack:
             if self.search.out_of_time():
-                return "unknown"
+                return Ending.UNKNOWN
             ended, children = self._visit(stack.pop())
             if ended is not None:
                 return ended
             stack.extend(children)
-        return "unknown" if self.unresolved else "exhausted"
+        return Ending.UNKNOWN if self.unresolved else Ending.EXHAUSTED
 
-    def _visit(self, node: Node) -> tuple[str | None, list[Node]]:
-        """Solve ``node``: an outcome that ends the search (``"found"``, ``"least"``,
-        ``"unknown"``), or None and the children to search (none when the node is closed
+    def _visit(self, node: Node) -> tuple[Ending | None, list[Node]]:
+        """Solve ``node``: how the search ends there (:attr:`Ending.FOUND`, :attr:`Ending.LEAST`,
+        :attr:`Ending.UNKNOWN`), or None and the children to search (none when the node is closed
         by its bound, answered by enumeration, or integral)."""
         search, budget = self.search, self.budget
         at_root = self.root_bound is None
         if not at_root and len(search.pool) >= POOL_GROWTH * self.pool_tried and self._accept(self._pool_covering()):
-            return "found", []
+            return Ending.FOUND, []
         outcome = search.solve_node(node, budget, self.target)
         rounded = rounded_up(outcome.bound)
         if at_root:
             self.root_bound = max(1, rounded) if math.isfinite(rounded) else None
             log.info("branch-and-price: the root LP needs at least %s routes (%d allowed)", self.root_bound, self.target)
         if at_root and any(self._accept(routes) for routes in self._root_candidates(rounded)):
-            return "found", []
+            return Ending.FOUND, []
         settled = None
-        if outcome.why == "solved" and rounded <= self.target and search.integral_routes(outcome) is None:
+        if outcome.why == Why.SOLVED and rounded <= self.target and search.integral_routes(outcome) is None:
             outcome, settled = search.enumerate_node(node, outcome, budget, self.target, shortest=self.first)
             rounded = rounded_up(outcome.bound)
             if at_root and self.root_bound is not None and math.isfinite(rounded):
@@ -152,17 +182,17 @@ class Decision:
             if settled is not None and settled.routes is not None:
                 if self.first and at_root and settled.least:
                     self.best = settled.routes
-                    return "least", []
+                    return Ending.LEAST, []
                 if self._accept(settled.routes):
-                    return "found", []
+                    return Ending.FOUND, []
         # the master's solution when integral (that of the LP re-solved for a listing too)
-        if outcome.why == "solved" and rounded <= self.target and self._accept(search.integral_routes(outcome)):
-            return "found", []
-        if outcome.why == "time limit":
-            return "unknown", []
+        if outcome.why == Why.SOLVED and rounded <= self.target and self._accept(search.integral_routes(outcome)):
+            return Ending.FOUND, []
+        if outcome.why == Why.TIME_LIMIT:
+            return Ending.UNKNOWN, []
         if rounded > self.target or settled is not None:
             return None, []  # closed by its bound, or answered by enumeration
-        if outcome.why != "solved":
+        if outcome.why != Why.SOLVED:
             self.unresolved = True
             return None, []
         if search.integral_routes(outcome) is not None:

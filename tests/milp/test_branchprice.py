@@ -99,7 +99,7 @@ def test_growing_the_neighbourhoods_finds_the_ng_optimum(seed, tours):
     rng = np.random.default_rng(seed)
     allowed, can_end = open_arcs(m)
     growing, full = Pricing(D, tours=tours, ng_size=4), Pricing(D, tours=tours, ng_size=4)
-    full.remembered = full.memories.copy()
+    full.remembered = full.neighbourhoods.copy()
     for _ in range(3):  # the neighbourhoods grown by one call serve the next
         prize = np.concatenate(([0.0], rng.uniform(0.0, 1.0, m)))
         budget = (2.0 if tours else 1.0) * D[0, 1:].max() * rng.uniform(1.5, 3.0)
@@ -118,7 +118,7 @@ def test_strong_branching_reaches_setparts_optimum(monkeypatch):
     restoring them: solved again, it has the node's LP value)."""
     candidates = branchprice.STRONG_CANDIDATES
     picked, restored = [], []
-    choose = branchprice._Search.branching_arc
+    choose = branchprice.BranchAndPrice.branching_arc
 
     def recording(search, node, outcome, target):
         arc = choose(search, node, outcome, target)
@@ -127,7 +127,7 @@ def test_strong_branching_reaches_setparts_optimum(monkeypatch):
         restored.append(outcome.master.getInfo().objective_function_value - outcome.value)
         return arc
 
-    monkeypatch.setattr(branchprice._Search, "branching_arc", recording)
+    monkeypatch.setattr(branchprice.BranchAndPrice, "branching_arc", recording)
     monkeypatch.setattr(branchprice, "ENUMERATION_ROUTES", (0, -1))  # enumeration would answer the root
     # seed 1 branches at both sizes (measured: with the most fractional arc instead, n = 16
     # is not proven in 60 s)
@@ -146,13 +146,13 @@ def test_integer_master_below_the_root_keeps_the_optimum(monkeypatch):
     both questions at setpart's optimum, and it must have run below the root."""
     calls: dict[str, list[int]] = {"fewest_routes": [], "integer_master": []}
     for name, made in calls.items():
-        method = getattr(branchprice._Search, name)
+        method = getattr(branchprice.BranchAndPrice, name)
 
         def counting(search, *args, _method=method, _made=made, **kwargs):
             _made.append(1)
             return _method(search, *args, **kwargs)
 
-        monkeypatch.setattr(branchprice._Search, name, counting)
+        monkeypatch.setattr(branchprice.BranchAndPrice, name, counting)
     searches, masters = calls["fewest_routes"], calls["integer_master"]
     monkeypatch.setattr(tree, "POOL_GROWTH", 1.0)
     monkeypatch.setattr(branchprice, "ENUMERATION_ROUTES", (0, -1))  # the tree, not enumeration
@@ -295,7 +295,7 @@ def test_pricing_with_cuts_is_the_elementary_optimum(seed):
     allowed, can_end = open_arcs(m)
     found = Pricing(D, tours=False, ng_size=m).price(
         prize, budget, allowed=allowed, can_end=can_end, exact=True, threshold=0.0,
-        cuts=cuts, memories=mems, penalties=penalties)
+        cut_bits=cuts, cut_memory=mems, penalties=penalties)
     best = 0.0
     for size in range(1, m + 1):
         for order in itertools.permutations(range(1, m + 1), size):
@@ -324,7 +324,7 @@ def test_makespan_bound_takes_the_q_route_bound_when_the_ng_route_bisection_runs
         return q_bound(*args, lower=lower, **kwargs)
 
     monkeypatch.setattr(branchprice.colgen, "makespan_lower_bound", recording)
-    search = branchprice._Search(D, tours=tours, ends_at=None)
+    search = branchprice.BranchAndPrice(D, tours=tours, ends_at=None)
     converged = branchprice._makespan_lp_bound(search, k, lower, upper, time.perf_counter() + 60)
     assert not asked and lower < converged <= optimum * (1 + TOL)
 
@@ -338,7 +338,7 @@ def test_makespan_bound_takes_the_q_route_bound_when_the_ng_route_bisection_runs
         return bisect(search, k, low, high)
 
     monkeypatch.setattr(branchprice, "_bisect_lp_bound", out_of_time_at_first)
-    search = branchprice._Search(D, tours=tours, ends_at=None)
+    search = branchprice.BranchAndPrice(D, tours=tours, ends_at=None)
     bound = branchprice._makespan_lp_bound(search, k, lower, upper, time.perf_counter() + 60)
     assert asked == [lower] and len(halves) == 2 and halves[1] >= lower
     assert bound == pytest.approx(converged, rel=1e-3) and bound <= optimum * (1 + TOL)

@@ -119,16 +119,16 @@ def test_nodes_answered_by_enumeration_agree_with_setpart(tours, monkeypatch):
     """Both questions, k = 3-4 (enumeration's range), on instances where it answers
     nodes (and proves least makespans at the root): the same optima as set partitioning."""
     answered, least = [], []
-    enumerate_node = branchprice._Search.enumerate_node
+    enumerate_node = branchprice.BranchAndPrice.enumerate_node
 
     def recording(search, *args, **kwargs):
         outcome, settled = enumerate_node(search, *args, **kwargs)
         answered.append(settled is not None)
         return outcome, settled
 
-    monkeypatch.setattr(branchprice._Search, "enumerate_node", recording)
+    monkeypatch.setattr(branchprice.BranchAndPrice, "enumerate_node", recording)
     # without the root's integer master the decisions reach enumeration (it runs first)
-    monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
+    monkeypatch.setattr(branchprice.BranchAndPrice, "integer_master", lambda *args: None)
     for seed in range(4):
         D = _euclidean(11, 100 + seed)
         for k in (3, 4):
@@ -149,7 +149,7 @@ def test_enumeration_out_of_its_time_share_leaves_the_tree_to_decide(tours, monk
     optima (an undecided listing or MIP is never taken as "no solution")."""
     listings = _recorded_listings(monkeypatch)
     monkeypatch.setattr(branchprice, "ENUMERATION_SHARE", 1e-9)
-    monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
+    monkeypatch.setattr(branchprice.BranchAndPrice, "integer_master", lambda *args: None)
     for seed in range(2):
         D = _euclidean(11, 100 + seed)
         for k in (3, 4):
@@ -163,15 +163,15 @@ def test_a_listing_that_gave_up_bars_larger_gaps_in_later_decisions(tours, monke
     up at gap ``g``, no later listing (later decisions included) is tried at a gap of
     ``ENUMERATION_RETRY * g`` or more, and the optima stay set partitioning's."""
     listings, decisions = _recorded_listings(monkeypatch), []  # decisions: listings before each
-    fewest_routes = branchprice._Search.fewest_routes
+    fewest_routes = branchprice.BranchAndPrice.fewest_routes
 
     def counting(search, *args, **kwargs):
         decisions.append(len(listings))
         return fewest_routes(search, *args, **kwargs)
 
-    monkeypatch.setattr(branchprice._Search, "fewest_routes", counting)
+    monkeypatch.setattr(branchprice.BranchAndPrice, "fewest_routes", counting)
     monkeypatch.setattr(branchprice, "ENUMERATION_STATES", 30)  # every listing gives up
-    monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
+    monkeypatch.setattr(branchprice.BranchAndPrice, "integer_master", lambda *args: None)
     later = 0
     for seed in range(3):
         D = _euclidean(11, 100 + seed)
@@ -194,7 +194,7 @@ def test_an_undecided_family_does_not_join_the_pool(tours, monkeypatch):
     tree still reaches set partitioning's optima."""
     listings, pooled_while_listed = _recorded_listings(monkeypatch), []
     answered = [0]  # listings made before enumerate_node last returned
-    add, enumerate_node = columns.Pool.add, branchprice._Search.enumerate_node
+    add, enumerate_node = columns.Pool.add, branchprice.BranchAndPrice.enumerate_node
 
     def adding(pool, routes, *args, **kwargs):
         pooled_while_listed.append(any(family is not None for _, family in listings[answered[0]:]))
@@ -206,9 +206,9 @@ def test_an_undecided_family_does_not_join_the_pool(tours, monkeypatch):
         return result
 
     monkeypatch.setattr(columns.Pool, "add", adding)
-    monkeypatch.setattr(branchprice._Search, "enumerate_node", enumerating)
-    monkeypatch.setattr(branchprice._Search, "_covering", lambda *args: (False, None))
-    monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
+    monkeypatch.setattr(branchprice.BranchAndPrice, "enumerate_node", enumerating)
+    monkeypatch.setattr(branchprice.BranchAndPrice, "_covering", lambda *args: (False, None))
+    monkeypatch.setattr(branchprice.BranchAndPrice, "integer_master", lambda *args: None)
     for seed in range(2):
         _least_makespan_as_setpart(_euclidean(11, 100 + seed), 3, tours)
     assert pooled_while_listed and not any(pooled_while_listed)
@@ -219,7 +219,7 @@ def test_least_makespan_covering_probes_just_below_the_covering_first(monkeypatc
     shorter than the one found (often the least already: then one MIP proves it)."""
     probes, calls = [], []
     maximal = branchprice.enumeration.Family.maximal
-    least = branchprice._Search._least_makespan_covering
+    least = branchprice.BranchAndPrice._least_makespan_covering
 
     def recording_maximal(family, within=np.inf):
         probes.append(within)
@@ -236,8 +236,8 @@ def test_least_makespan_covering_probes_just_below_the_covering_first(monkeypatc
         return result
 
     monkeypatch.setattr(branchprice.enumeration.Family, "maximal", recording_maximal)
-    monkeypatch.setattr(branchprice._Search, "_least_makespan_covering", recording_least)
-    monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
+    monkeypatch.setattr(branchprice.BranchAndPrice, "_least_makespan_covering", recording_least)
+    monkeypatch.setattr(branchprice.BranchAndPrice, "integer_master", lambda *args: None)
     for seed in range(4):
         for tours in (False, True):
             _least_makespan_as_setpart(_euclidean(11, 100 + seed), 3, tours)
@@ -251,14 +251,14 @@ def test_a_family_of_too_many_maximal_sets_counts_as_given_up(tours, monkeypatch
     gave up; the tree still reaches set partitioning's optima."""
     monkeypatch.setattr(branchprice, "ENUMERATION_MAXIMAL", 4)
     listings, events = _recorded_listings(monkeypatch), []  # events: listings then MIPs
-    covering = branchprice._Search._covering
+    covering = branchprice.BranchAndPrice._covering
 
     def recording(search, *args, **kwargs):
         events.append(("MIP", len(listings)))
         return covering(search, *args, **kwargs)
 
-    monkeypatch.setattr(branchprice._Search, "_covering", recording)
-    monkeypatch.setattr(branchprice._Search, "integer_master", lambda *args: None)
+    monkeypatch.setattr(branchprice.BranchAndPrice, "_covering", recording)
+    monkeypatch.setattr(branchprice.BranchAndPrice, "integer_master", lambda *args: None)
     too_many = 0
     for seed in range(3):
         listings[:], events[:] = [], []

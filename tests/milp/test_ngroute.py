@@ -1,0 +1,173 @@
+"""The compiled parts of the ng-route pricing (milp.branchprice.ngroute), each on tiny
+inputs whose expected values are worked out by hand, and the whole pricing against brute
+force.
+
+The search-level checks of the pricing (ng-routes, cuts, growing neighbourhoods) are in
+test_branchprice.py.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+from milp.branchprice import ngroute
+from milp.branchprice.ngroute import MAX_CUTS, Pricing
+from milp_helpers import euclidean
+
+U1 = np.uint64(1)
+
+
+def bits(*positions: int) -> np.uint64:
+    """A ``uint64`` with the given bits set."""
+    out = np.uint64(0)
+    for p in positions:
+        out |= U1 << np.uint64(p)
+    return out
+
+
+def test_penalty_sums_the_penalties_of_the_set_bits():
+    penalties = np.zeros(MAX_CUTS)
+    penalties[[0, 1, 2, 63]] = 0.5, 0.25, 2.0, 4.0
+    assert ngroute._penalty(penalties, bits(0, 2)) == 2.5
+    assert ngroute._penalty(penalties, bits(1, 63)) == 4.25
+    assert ngroute._penalty(penalties, np.uint64(0)) == 0.0
+
+
+def test_completion_reads_the_table_at_the_budget_left():
+    """delta 1, U 2.5: after length 0.4 the budget left is 2.1, b = floor(2.1) + 1 = 3,
+    capped at G = 2; after 2.6, b = floor(-0.1) + 1 = 0; after 3.7, b = -1: the route
+    cannot end; G = 0 means no bound."""
+    table = np.array([[-np.inf, 0.0], [-np.inf, 1.0], [-np.inf, 2.0]])
+    assert ngroute._completion(table, 1.0, 2, 2.5, 0.4, 1) == 2.0
+    assert ngroute._completion(table, 1.0, 2, 2.5, 1.4, 1) == 2.0  # floor(1.1) + 1 = 2
+    assert ngroute._completion(table, 1.0, 2, 2.5, 2.0, 1) == 1.0  # floor(0.5) + 1 = 1
+    assert ngroute._completion(table, 1.0, 2, 2.5, 2.6, 1) == 0.0
+    assert ngroute._completion(table, 1.0, 2, 2.5, 3.7, 1) == -np.inf
+    assert ngroute._completion(table, 1.0, 0, 2.5, 0.4, 1) == np.inf
+
+
+def test_completion_table_on_a_line():
+    """KPOIs 1, 2 at grid distances 1 and 2 from the start, 1 apart, prizes 0.5 and 0.25,
+    paths (no way home), every arc allowed, both may end. g(b, 1): at b = 0 end at 1 (0);
+    from b = 1 go on to 2 (0.25). g(b, 2): 0 at b = 0; from b = 1 go to 1 (0.5) and end
+    there (the walk may not come back to 2 at once: 2 -> 1 -> 2 is a 2-cycle), so 0.5 for
+    every b >= 1."""
+    dd = np.array([[0, 1, 2], [1, 0, 1], [2, 1, 0]], np.int64)
+    allowed = ~np.eye(3, dtype=bool)
+    table = ngroute._completion_table(dd, np.zeros(3, np.int64), np.array([0.0, 0.5, 0.25]), allowed,
+                                      np.ones(3, bool), 3, np.inf)
+    assert table[:, 1].tolist() == [0.0, 0.25, 0.25, 0.25]
+    assert table[:, 2].tolist() == [0.0, 0.5, 0.5, 0.5]
+
+
+def test_grid_step_is_just_below_the_shortest_distance():
+    delta, G = ngroute._grid_step(10.0, 2.0)
+    assert delta < 2.0 and np.floor(2.0 / delta) == 1 and G == 6  # floor(10 / delta) + 1
+    assert ngroute._grid_step(10.0, 0.0) is None
+    assert ngroute._grid_step(1e6, 1.0) is None  # more than MAX_GRID steps
+
+
+def test_subset_of_bit_sets_over_words():
+    a = np.array([bits(1, 5), bits(0)], np.uint64)
+    b = np.array([bits(1, 5, 7), bits(0, 3)], np.uint64)
+    assert ngroute._subset(a, b) and not ngroute._subset(b, a)
+    assert ngroute._subset(np.zeros(2, np.uint64), a)
+
+
+def test_dominated_on_arrival_needs_the_prize_after_penalties():
+    """Extended labels 0 (prize 2, parities {0}) and 1 (prize 1.2, none), by decreasing
+    prize. A new label of prize 1.8 without parities: label 0's odd parity 0 may cost it
+    0.5 later, which the new one would not pay: 2 - 0.5 < 1.8, not dominated by it, and
+    label 1's prize is smaller: not dominated. With penalty 0.1: 2 - 0.1 >= 1.8,
+    dominated. A new label sharing parity 0 is dominated by label 0 at any penalty."""
+    parity = np.array([bits(0), 0], np.uint64)
+    vals, labs = np.array([2.0, 1.2]), np.array([0, 1], np.int64)
+    big, small = np.zeros(MAX_CUTS), np.zeros(MAX_CUTS)
+    big[0], small[0] = 0.5, 0.1
+    assert not ngroute._dominated_on_arrival(vals, labs, 2, 1.8, parity, np.uint64(0), big)
+    assert ngroute._dominated_on_arrival(vals, labs, 2, 1.8, parity, np.uint64(0), small)
+    assert ngroute._dominated_on_arrival(vals, labs, 2, 1.8, parity, bits(0), big)
+    assert ngroute._dominated_on_arrival(vals, labs, 2, 1.0, parity, np.uint64(0), big)  # label 1: 1.2 >= 1
+    assert not ngroute._dominated_on_arrival(vals, labs, 0, 1.0, parity, np.uint64(0), big)  # none extended
+
+
+def test_cut_coefficients_count_visits_with_the_parity_set():
+    """Cut 0 on the triple {1, 2, 3} with memory {1, 2, 3, 4}, cut 1 on {1, 2, 5} with
+    memory {1, 2, 5}. Route 1, 4, 2, 3: cut 0 parity set at 1, kept at 4, counts at 2
+    (then clear), set at 3: 1; cut 1 set at 1, forgotten at 4: 0. Route 1, 2, 5: cut 0
+    counts at 2: 1; cut 1 counts at 2, then set again at 5: 1."""
+    cut_bits = np.array([0, bits(0, 1), bits(0, 1), bits(0), 0, bits(1)], np.uint64)
+    cut_memory = np.array([0, bits(0, 1), bits(0, 1), bits(0), bits(0), bits(1)], np.uint64)
+    alpha = ngroute.cut_coefficients([np.array([1, 4, 2, 3]), np.array([1, 2, 5])], cut_bits, cut_memory, 2)
+    assert alpha.tolist() == [[1.0, 1.0], [0.0, 1.0]]
+
+
+def test_ng_neighbourhoods_hold_each_kpoi_and_its_nearest():
+    """Points on a line at 0 (start), 1, 2, 4, 8: with size 2 each KPOI's neighbourhood is
+    itself and its nearest KPOI (ties to the lower index)."""
+    x = np.array([0.0, 1.0, 2.0, 4.0, 8.0])
+    masks = ngroute.ng_neighbourhoods(np.abs(x[:, None] - x[None]), 2)
+    assert masks[:, 0].tolist() == [0, bits(1, 2), bits(1, 2), bits(2, 3), bits(3, 4)]
+
+
+def test_forbid_remembers_the_kpoi_of_a_forbidden_cycle():
+    """Neighbourhoods of size 2 on the line above, remembered from {i} (DSSR): route 1, 2, 1
+    revisits 1 while 1 is in 2's neighbourhood (a cycle the ng-relaxation forbids), so 2
+    now remembers 1; route 1, 3, 1 is an ng-route (1 is not in 3's neighbourhood)."""
+    x = np.array([0.0, 1.0, 2.0, 4.0, 8.0])
+    pricing = Pricing(np.abs(x[:, None] - x[None]), tours=False, ng_size=2)
+    assert pricing.remembered[:, 0].tolist() == [0, bits(1), bits(2), bits(3), bits(4)]
+    assert pricing._forbid(np.array([1, 2, 1]))
+    assert pricing.remembered[2, 0] == bits(1, 2)
+    assert not pricing._forbid(np.array([1, 3, 1]))  # 1 is not in 3's neighbourhood: an ng-route
+    assert pricing.remembered[3, 0] == bits(3)
+
+
+def brute_force(D, prize, budget, tours, allowed, can_end):
+    """Every elementary route on allowed arcs within ``budget`` ending where allowed:
+    ``{route: prize}``."""
+    m = len(D) - 1
+    routes = {}
+    for size in range(1, m + 1):
+        for order in itertools.permutations(range(1, m + 1), size):
+            stops = [0, *order]
+            if not all(allowed[a, b] for a, b in zip(stops, stops[1:])) or not can_end[order[-1]]:
+                continue
+            if D[stops[:-1], stops[1:]].sum() + (D[order[-1], 0] if tours else 0.0) <= budget:
+                routes[order] = float(prize[list(order)].sum())
+    return routes
+
+
+@pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
+@pytest.mark.parametrize("seed", range(8))
+def test_pricing_matches_brute_force_under_branching(seed, tours):
+    """Random tiny instances with forbidden arcs and ends: with full neighbourhoods the
+    exact pricing's best is the brute-force best elementary route; every route it returns
+    is elementary, allowed, within the budget, above the threshold, with its stated order;
+    the heuristic finds no more than it."""
+    m = 6
+    D = euclidean(m, 100 + seed)
+    rng = np.random.default_rng(seed)
+    prize = np.concatenate(([0.0], rng.uniform(0.0, 0.6, m)))
+    budget = (2.0 if tours else 1.0) * D[0, 1:].max() * rng.uniform(1.0, 2.0)
+    allowed = (rng.uniform(size=(m + 1, m + 1)) > 0.2) & ~np.eye(m + 1, dtype=bool)
+    can_end = rng.uniform(size=m + 1) > 0.2
+    can_end[0] = False
+    expected = brute_force(D, prize, budget, tours, allowed, can_end)
+    threshold = 0.5
+    best = max([threshold, *expected.values()])
+    exact = Pricing(D, tours=tours, ng_size=m).price(prize, budget, allowed=allowed, can_end=can_end,
+                                                     exact=True, threshold=threshold)
+    heuristic = Pricing(D, tours=tours, ng_size=m).price(prize, budget, allowed=allowed, can_end=can_end,
+                                                         exact=False, threshold=threshold)
+    assert exact.exact and exact.best == pytest.approx(best, abs=1e-12)
+    assert heuristic.best <= exact.best + 1e-12
+    for found in (exact, heuristic):
+        values = [expected[tuple(r.tolist())] for r in found.routes]  # KeyError: not a brute-force route
+        assert all(v > threshold for v in values)
+        assert values == sorted(values, reverse=True)
+    if best > threshold:
+        assert expected[tuple(exact.routes[0].tolist())] == pytest.approx(best, abs=1e-12)
