@@ -50,7 +50,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from milp.core.jit import njit
-from milp.branchprice.ngroute import BUDGET_ROUND, WORD, _completion_table, _grid_step, _grow
+from milp.branchprice.ngroute import BUDGET_ROUND, WORD, completion_table, grid_step, enlarged
 
 __all__ = ["Family", "routes_within_gap"]
 
@@ -123,12 +123,12 @@ def routes_within_gap(
     """
     m1 = len(D)
     words = (m1 + WORD - 1) // WORD
-    grid = _grid_step(budget, float(D[~np.eye(m1, dtype=bool)].min()) if m1 > 1 else 1.0)
+    grid = grid_step(budget, float(D[~np.eye(m1, dtype=bool)].min()) if m1 > 1 else 1.0)
     if grid is None:
         return None  # no completion bound: the listing would not be pruned
     delta, G = grid
     dd = np.floor(D / delta).astype(np.int64)
-    table = _completion_table(dd, np.floor(back / delta).astype(np.int64), prize, allowed, can_end, G, ends_at)
+    table = completion_table(dd, np.floor(back / delta).astype(np.int64), prize, allowed, can_end, G, ends_at)
     if table is None:
         return None
     sets = np.zeros((1, words), np.uint64)
@@ -242,8 +242,8 @@ def _extend(sets, last, length, gained, D, back, prize, allowed, budget, thresho
                 continue
             if count == size:
                 size *= 2
-                out_parent, out_last = _grow(out_parent, size), _grow(out_last, size)
-                out_length, out_gained = _grow(out_length, size), _grow(out_gained, size)
+                out_parent, out_last = enlarged(out_parent, size), enlarged(out_last, size)
+                out_length, out_gained = enlarged(out_length, size), enlarged(out_gained, size)
             out_parent[count], out_last[count], out_length[count], out_gained[count] = s, j, reach, p
             count += 1
     return out_parent[:count], out_last[:count], out_length[:count], out_gained[:count]

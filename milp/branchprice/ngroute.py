@@ -254,7 +254,7 @@ class Pricing:
         if cut_bits is None:
             cut_bits, cut_memory = np.zeros(self.m + 1, dtype=np.uint64), np.zeros(self.m + 1, dtype=np.uint64)
             penalties = np.zeros(MAX_CUTS)
-        grid = _grid_step(budget, self.shortest)
+        grid = grid_step(budget, self.shortest)
         if grid is None:
             delta, G = 1.0, 0
             table = np.full((1, self.m + 1), np.inf)
@@ -262,7 +262,7 @@ class Pricing:
             delta, G = grid
             dd = np.floor(self.D / delta).astype(np.int64)
             back = np.floor(self.back / delta).astype(np.int64)
-            table = _completion_table(dd, back, prize, allowed, can_end, G, ends_at)
+            table = completion_table(dd, back, prize, allowed, can_end, G, ends_at)
             if table is None:  # the clock stopped it
                 return PricingResult(float(threshold), [], False, 0)
         walk = walk_bound(self.D, prize, allowed, table, delta, G, budget, self.back, can_end)
@@ -332,7 +332,7 @@ def walk_bound(D: np.ndarray, prize: np.ndarray, allowed: np.ndarray, table: np.
     return best
 
 
-def _grid_step(budget: float, shortest: float) -> tuple[float, int] | None:
+def grid_step(budget: float, shortest: float) -> tuple[float, int] | None:
     """``(delta, G)`` of the completion bound, or None when the grid would be too fine."""
     if budget <= 0 or shortest <= 0:
         return None
@@ -353,7 +353,7 @@ def _trace(label: int, parents: np.ndarray, nodes: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True)
-def _completion_table(dd, back, prize, allowed, can_end, G, ends_at):  # pragma: no cover - compiled
+def completion_table(dd, back, prize, allowed, can_end, G, ends_at):  # pragma: no cover - compiled
     """``g(b, j)`` of the module docstring for ``b = 0..G`` (``-inf``: cannot end), over
     walks without 2-cycles, or None when the clock passes ``ends_at`` first (read every
     :data:`CLOCK_EVERY` steps).
@@ -430,7 +430,7 @@ class Budget(NamedTuple):
 
     #: Largest route length :math:`U`.
     U: float
-    #: ``g(b, j)`` for ``b = 0..G`` (:func:`_completion_table`); unused when ``G`` is 0.
+    #: ``g(b, j)`` for ``b = 0..G`` (:func:`completion_table`); unused when ``G`` is 0.
     table: np.ndarray
     #: Grid step :math:`\delta`.
     delta: float
@@ -583,8 +583,8 @@ def _label(arcs, prizes, budget, threshold, exact, ends_at):  # pragma: no cover
                 continue
             # insert at position k (the first with a smaller prize)
             if fill[i] == labs.shape[0]:
-                done[i] = _grow(labs, 2 * fill[i])
-                done_value[i] = _grow(vals, 2 * fill[i])
+                done[i] = enlarged(labs, 2 * fill[i])
+                done_value[i] = enlarged(vals, 2 * fill[i])
                 vals, labs = done_value[i], done[i]
             for q in range(fill[i], k, -1):
                 vals[q], labs[q] = vals[q - 1], labs[q - 1]
@@ -615,10 +615,10 @@ def _label(arcs, prizes, budget, threshold, exact, ends_at):  # pragma: no cover
             work += 1
             if count == cap:
                 cap *= 2
-                node, parent = _grow(node, cap), _grow(parent, cap)
-                length, value = _grow(length, cap), _grow(value, cap)
-                hkey, hval = _grow(hkey, cap), _grow(hval, cap)
-                parity = _grow(parity, cap)
+                node, parent = enlarged(node, cap), enlarged(parent, cap)
+                length, value = enlarged(length, cap), enlarged(value, cap)
+                hkey, hval = enlarged(hkey, cap), enlarged(hval, cap)
+                parity = enlarged(parity, cap)
                 grown = np.empty((cap, W), np.uint64)  # rows below count are written on use
                 grown[:count] = memory[:count]
                 memory = grown
@@ -646,7 +646,7 @@ def _label(arcs, prizes, budget, threshold, exact, ends_at):  # pragma: no cover
             # (a dominated label that ends a route is kept for that route, never extended)
             if ends_here:
                 if nends == ends_label.shape[0]:
-                    ends_label, ends_value = _grow(ends_label, 2 * nends), _grow(ends_value, 2 * nends)
+                    ends_label, ends_value = enlarged(ends_label, 2 * nends), enlarged(ends_value, 2 * nends)
                 ends_label[nends], ends_value[nends] = new, nv
                 nends += 1
                 if nv > best:
@@ -695,7 +695,7 @@ def _cut_counts(flat, starts, cut_bits, cut_memory, count):  # pragma: no cover 
 
 
 @njit(cache=True)
-def _grow(a, size):  # pragma: no cover - compiled
+def enlarged(a, size):  # pragma: no cover - compiled
     """``a`` copied into a larger array of ``size`` entries."""
     out = np.empty(size, a.dtype)
     out[: a.shape[0]] = a

@@ -57,17 +57,17 @@ def test_completion_table_on_a_line():
     every b >= 1."""
     dd = np.array([[0, 1, 2], [1, 0, 1], [2, 1, 0]], np.int64)
     allowed = ~np.eye(3, dtype=bool)
-    table = ngroute._completion_table(dd, np.zeros(3, np.int64), np.array([0.0, 0.5, 0.25]), allowed,
+    table = ngroute.completion_table(dd, np.zeros(3, np.int64), np.array([0.0, 0.5, 0.25]), allowed,
                                       np.ones(3, bool), 3, np.inf)
     assert table[:, 1].tolist() == [0.0, 0.25, 0.25, 0.25]
     assert table[:, 2].tolist() == [0.0, 0.5, 0.5, 0.5]
 
 
 def test_grid_step_is_just_below_the_shortest_distance():
-    delta, G = ngroute._grid_step(10.0, 2.0)
+    delta, G = ngroute.grid_step(10.0, 2.0)
     assert delta < 2.0 and np.floor(2.0 / delta) == 1 and G == 6  # floor(10 / delta) + 1
-    assert ngroute._grid_step(10.0, 0.0) is None
-    assert ngroute._grid_step(1e6, 1.0) is None  # more than MAX_GRID steps
+    assert ngroute.grid_step(10.0, 0.0) is None
+    assert ngroute.grid_step(1e6, 1.0) is None  # more than MAX_GRID steps
 
 
 def test_subset_of_bit_sets_over_words():
