@@ -10,8 +10,7 @@ import sys
 
 import pytest
 
-sys.path.insert(0, str(__import__("pathlib").Path(__file__).resolve().parents[1]))
-from test_imports import ROOT, imports_of, project_modules  # noqa: E402
+from test_imports import ROOT, imports_of, project_modules
 
 FORMER = {
     "milp.arcflow": "milp.compact.arcflow", "milp.cvx": "milp.compact.cvx",
