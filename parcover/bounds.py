@@ -6,7 +6,8 @@
   closing arcs); for 21-200 KPOIs also its Held-Karp strengthening, spanning trees under
   Lagrangian prices on the KPOIs' degrees (:func:`milp.bounds.held_karp_makespan_bound`).
 - Robots: the fewest routes within the deadline that the same arguments allow, at
-  least 1.
+  least 1, and at least the number of KPOIs no two of which fit on one route within the
+  deadline (a clique of conflicting KPOIs: :func:`milp.bounds.conflict_clique`).
 
 Both are :mod:`milp.bounds`, computed on the instance's distance matrix.
 """
@@ -29,7 +30,8 @@ def makespan_lower_bound(instance: Instance, problem: Problem, robots: int, *,
 
 
 def robots_lower_bound(instance: Instance, deadline: float, *, tours: bool, seconds: float | None = None) -> int:
-    """Fewest routes within ``deadline`` allowed by the spanning-tree bound (>= 1)."""
+    """Fewest routes within ``deadline`` allowed by the spanning-tree and conflict-clique
+    bounds (>= 1)."""
     return bounds.robots_lower_bound(instance.distances, deadline, tours=tours, time_limit=seconds)
 
 

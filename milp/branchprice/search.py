@@ -571,13 +571,14 @@ class BranchAndPrice:
         return colgen.fewest_covering(orders, self.m, seconds)
 
     def fewest_routes(self, budget: float, incumbent: list[list[int]] | None, target: int,
-                      *, first: bool, improve: Improve | None = None,
+                      *, first: bool, improve: Improve | None = None, floor: int = 1,
                       ) -> tuple[list[list[int]] | None, int | None, Ending]:
         """Branch-and-price for the fewest routes within ``budget``.
 
         Searches for routes within ``budget``, at most ``target`` of them (fewer than
         ``incumbent`` when it is given: ``target`` moves down with every better solution).
-        With ``first``, returns at the first solution found. ``improve``, when the root
+        With ``first``, returns at the first solution found; it also returns at a solution
+        of ``floor`` routes (a bound the caller proved). ``improve``, when the root
         does not prove the incumbent, is asked once for routes meeting the root's bound.
         The integer master over the pool runs at the root and again below it whenever the
         pool has grown :data:`milp.branchprice.tree.POOL_GROWTH` times.
@@ -590,7 +591,7 @@ class BranchAndPrice:
             (:class:`milp.branchprice.tree.Ending`; with :attr:`~Ending.EXHAUSTED`,
             ``target`` is one below the returned routes' count when any were found).
         """
-        tree = Decision(self, budget, incumbent, target, first=first, improve=improve)
+        tree = Decision(self, budget, incumbent, target, first=first, improve=improve, floor=floor)
         outcome = tree.run()
         return tree.best, tree.root_bound, outcome
 
@@ -754,15 +755,16 @@ def min_robots(
     trivial = tree_robots_bound(merged.D, deadline, tours=tours, time_limit=time_limit)
     if len(start) <= trivial:
         return model_result("optimal", merged, D, start, len(start), len(start), 0, began,
-                       "warm start meets the spanning-tree bound")
+                       "warm start meets the spanning-tree / conflict-clique bound")
     log.info("branch-and-price: %d routes from the warm start, bound %d", len(start), trivial)
     better = None if improve is None else (
         lambda floor: checked_start(merged, D, improve(floor), tours=tours, deadline=deadline, k=None))
-    routes, root, outcome = search.fewest_routes(budget, start, len(start) - 1, first=False, improve=better)
+    routes, root, outcome = search.fewest_routes(budget, start, len(start) - 1, first=False, improve=better,
+                                                 floor=trivial)
     bound = max(trivial, root or 1)
     if outcome == Ending.EXHAUSTED or len(routes) <= bound:
         return model_result("optimal", merged, D, routes, len(routes), len(routes), search.nodes, began,
-                       "branch-and-price tree closed")
+                       "branch-and-price tree closed" if outcome == Ending.EXHAUSTED else "routes meet the bound")
     return model_result("feasible", merged, D, routes, len(routes), bound, search.nodes, began,
                    "time limit" if search.out_of_time() else "a node could not be branched on")
 

@@ -139,9 +139,10 @@ class Decision:
     fewer), the root's bound."""
 
     def __init__(self, search: Search[NodeOutcome], budget: float, incumbent: list[list[int]] | None,
-                 target: int, *, first: bool, improve: Improve | None) -> None:
+                 target: int, *, first: bool, improve: Improve | None, floor: int = 1) -> None:
         self.search, self.budget, self.first, self.improve = search, budget, first, improve
         self.best, self.target = incumbent, target
+        self.floor = floor  # a bound the caller proved: routes meeting it end the search
         self.root_bound: int | None = None  # set when the root is solved (None: still at it)
         self.unresolved = False  # a node was left open (pricing stalled, nothing to branch on)
         self.pool_tried = 0  # the pool's size when the integer master last ran
@@ -221,12 +222,13 @@ class Decision:
         return self.search.integer_master(self.budget)
 
     def _accept(self, routes: list[list[int]] | None) -> bool:
-        """Keep ``routes`` when they beat the target; True when the search should stop."""
+        """Keep ``routes`` when they beat the target; True when the search should stop (the
+        caller asked for the first, or they meet the caller's bound)."""
         if routes is None or len(routes) > self.target:
             return False
         self.best, self.target = routes, len(routes) - 1
         log.info("branch-and-price: %d routes found, %d nodes", len(routes), self.search.nodes)
-        return self.first
+        return self.first or len(routes) <= self.floor
 
 
 def rounded_up(bound: float) -> float:

@@ -1,5 +1,6 @@
-"""Spanning-tree and Held-Karp bounds (milp/bounds.py): the tree by a second algorithm,
-the bounds never above the optimum, zero distances included."""
+"""Spanning-tree, Held-Karp and conflict-clique bounds (milp/bounds.py): the tree by a
+second algorithm, the clique's conflicts by route costs, the bounds never above the
+optimum, zero distances included."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from milp import bounds, branchprice, setpart
+from milp.core.routes import route_cost
 from milp_helpers import euclidean
 from strategies import euclidean_instances
 
@@ -31,10 +33,48 @@ def test_bounds_by_hand_on_a_line():
     D = np.abs(points[:, None] - points[None, :])
     assert bounds.spanning_tree_length(D) == 3.0
     assert bounds.makespan_lower_bound(D, 2, tours=False) == 3.0  # c_max beats 3 / 2
-    # deadline 1.5 (paths): q routes of total <= 1.5 q must reach the tree's 3, so q >= 2
-    assert bounds.robots_lower_bound(D, 1.5, tours=False) == 2
+    # deadline 1.5 (paths): q routes of total <= 1.5 q must reach the tree's 3, so q >= 2;
+    # no path within 1.5 visits two of the KPOIs (it would be at least 1 + 1 long), so
+    # the conflict clique {1, 2, 3} raises it to 3
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(bounds, "conflict_clique", lambda *args, **kwargs: [])
+        assert bounds.robots_lower_bound(D, 1.5, tours=False) == 2
+    assert bounds.conflict_clique(D, 1.5, tours=False) == [1, 2, 3]
+    assert bounds.robots_lower_bound(D, 1.5, tours=False) == 3
     # tours within 6: tree 3 plus the smallest closing arc 1 is 4 <= 6, one route
     assert bounds.robots_lower_bound(D, 6.0, tours=True) == 1
+
+
+def test_conflict_clique_by_hand_on_a_circle():
+    """12 KPOIs evenly on the unit circle around the start, paths within c_max = 1: a path
+    visiting two of them is at least 1 + their chord (>= 0.52) long, so each needs a robot
+    of its own: 12. The spanning-tree bound gives 7 (tree: one spoke and 11 chords of
+    2 sin 15 deg = 0.518, 6.69 in all, over routes of at most 1); Held-Karp joins only
+    from 21 KPOIs. Tours within 2: every pair conflicts too (2 + chord > 2)."""
+    angles = np.arange(12) * np.pi / 6
+    points = np.vstack(([0.0, 0.0], np.column_stack((np.cos(angles), np.sin(angles)))))
+    D = np.linalg.norm(points[:, None] - points[None, :], axis=2)
+    assert bounds.conflict_clique(D, 1.0, tours=False) == list(range(1, 13))
+    assert bounds.conflict_clique(D, 2.0, tours=True) == list(range(1, 13))
+    assert bounds.robots_lower_bound(D, 1.0, tours=False) == 12
+    # with a deadline that lets neighbours share a path (1 + chord 0.518 <= 1.6), every
+    # second KPOI still conflicts with every other: 6
+    assert len(bounds.conflict_clique(D, 1.6, tours=False)) == 6
+
+
+@settings(max_examples=40, deadline=None)
+@given(instance=euclidean_instances(2, 12), tours=st.booleans(), stretch=st.sampled_from([1.0, 1.1, 1.5]))
+def test_conflict_clique_members_fit_on_no_route_together(instance, tours, stretch):
+    """Every two KPOIs of the clique: the route visiting just them, in either order, is
+    over the deadline (checked by route costs, not the bound's own formula)."""
+    D = instance.distances
+    deadline = stretch * (2 if tours else 1) * float(D[0].max())
+    clique = bounds.conflict_clique(D, deadline, tours=tours)
+    assert clique and len(set(clique)) == len(clique)
+    for a, i in enumerate(clique):
+        for j in clique[a + 1:]:
+            for pair in ([i, j], [j, i]):
+                assert route_cost(D, pair, tours=tours) > deadline * (1 + 1e-9) + 1e-9
 
 
 @settings(max_examples=25, deadline=None)
