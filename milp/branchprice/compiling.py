@@ -46,21 +46,21 @@ def compile_rarely_used() -> None:
     """Compile the subset-row cut and enumeration functions, which a search may never
     call, on toy arguments of the types a search passes: so that after one solve the
     on-disk cache holds every compiled function and :func:`ready_within` holds."""
-    if not compiled(cuts.violated_triples):
+    if not all(map(compiled, cuts.KERNELS)):
         cuts.violated_triples(np.zeros((1, 3)), np.zeros(1), 0.05)
-    if not compiled(ngroute._cut_counts):
+    if not all(map(compiled, ngroute.CUT_KERNELS)):
         bits = np.zeros(2, dtype=np.uint64)
         ngroute.cut_coefficients([np.array([1])], bits, bits, 1)
-    if not compiled(enumeration._extend):
+    if not all(map(compiled, enumeration.KERNELS)):
         D = np.array([[0.0, 1.0], [1.0, 0.0]])
         enumeration.routes_within_gap(D, D[:, 0].copy(), np.array([0.0, 1.0]), 2.0, 0.5,
                                       np.ones((2, 2), dtype=bool), np.ones(2, dtype=bool), max_states=10)
 
 
 def jitted() -> list[Dispatcher]:
-    """The compiled functions of the pricing, the route listing and the cut separation."""
-    return [f for module in (ngroute, enumeration, cuts) for f in vars(module).values()
-            if isinstance(f, Dispatcher)]
+    """The compiled functions of the pricing, the route listing and the cut separation,
+    as each module lists them (its ``KERNELS``)."""
+    return [*ngroute.KERNELS, *enumeration.KERNELS, *cuts.KERNELS]
 
 
 def compiled(function: Dispatcher) -> bool:

@@ -12,7 +12,7 @@ import numpy as np
 from milp.core.jit import njit
 from milp.branchprice.ngroute import MAX_CUTS
 
-__all__ = ["violated_triples", "popcount", "cut_memory"]
+__all__ = ["violated_triples", "popcount", "cut_memory", "KERNELS"]
 
 
 @njit(cache=True)
@@ -51,3 +51,7 @@ def cut_memory(triple: tuple[int, int, int], routes: list[np.ndarray]) -> set[in
         if len(where) >= 2:
             memory.update(int(j) for j in route[where[0]:where[-1] + 1])
     return memory
+
+
+#: Every compiled (numba) function of this module, for :mod:`milp.branchprice.compiling` to check and compile.
+KERNELS = (violated_triples,)

@@ -52,7 +52,7 @@ import numpy as np
 from milp.core.jit import njit
 from milp.branchprice.ngroute import BUDGET_ROUND, WORD, completion_table, grid_step, enlarged
 
-__all__ = ["Family", "routes_within_gap"]
+__all__ = ["Family", "routes_within_gap", "KERNELS"]
 
 
 @dataclass(frozen=True)
@@ -247,3 +247,7 @@ def _extend(sets, last, length, gained, D, back, prize, allowed, budget, thresho
             out_parent[count], out_last[count], out_length[count], out_gained[count] = s, j, reach, p
             count += 1
     return out_parent[:count], out_last[:count], out_length[:count], out_gained[:count]
+
+
+#: Every compiled (numba) function of this module, for :mod:`milp.branchprice.compiling` to check and compile.
+KERNELS = (_extend,)

@@ -107,7 +107,8 @@ from numba import objmode
 
 from milp.core.jit import njit
 
-__all__ = ["Pricing", "PricingResult", "cut_coefficients", "ng_neighbourhoods", "NG_SIZE", "MAX_GRID", "MAX_CUTS"]
+__all__ = ["Pricing", "PricingResult", "cut_coefficients", "ng_neighbourhoods", "NG_SIZE", "MAX_GRID", "MAX_CUTS",
+           "KERNELS", "CUT_KERNELS"]
 
 #: Neighbourhood size of the ng-relaxation (KPOI itself included); Baldacci et al. use 8.
 NG_SIZE = 16
@@ -700,3 +701,9 @@ def enlarged(a, size):  # pragma: no cover - compiled
     out = np.empty(size, a.dtype)
     out[: a.shape[0]] = a
     return out
+
+
+#: The compiled functions only :func:`cut_coefficients` calls: a search without cuts never compiles them.
+CUT_KERNELS = (_cut_counts,)
+#: Every compiled (numba) function of this module, for :mod:`milp.branchprice.compiling` to check and compile.
+KERNELS = (completion_table, _subset, _completion, _penalty, _dominated_on_arrival, _label, enlarged, *CUT_KERNELS)

@@ -10,8 +10,9 @@ import time
 
 import numba
 import pytest
+from numba.core.dispatcher import Dispatcher
 
-from milp.branchprice import compiling
+from milp.branchprice import compiling, cuts, enumeration, ngroute
 from milp.core import jit
 
 
@@ -36,6 +37,26 @@ def test_the_message_says_when_nothing_can_be_cached(capsys, monkeypatch, fresh_
     monkeypatch.setattr(compiling, "CACHE_FOLDER", None)
     compiling.announce_compiling()
     assert capsys.readouterr().err == compiling.COMPILING_UNCACHED_MESSAGE + "\n"
+
+
+@pytest.mark.parametrize("module", [ngroute, enumeration, cuts], ids=lambda module: module.__name__)
+def test_each_module_lists_exactly_the_compiled_functions_it_defines(module):
+    # the list is what compiling checks and compiles, so a new kernel left out of it would go unseen
+    defined = [f for f in vars(module).values()
+               if isinstance(f, Dispatcher) and f.py_func.__module__ == module.__name__]
+    assert len(module.KERNELS) == len(set(module.KERNELS)) and set(module.KERNELS) == set(defined)
+
+
+def test_every_compiled_function_of_the_three_modules_is_checked_once():
+    found = {f for module in (ngroute, enumeration, cuts) for f in vars(module).values() if isinstance(f, Dispatcher)}
+    assert sorted(f.__name__ for f in compiling.jitted()) == sorted(f.__name__ for f in found)
+
+
+def test_the_rarely_used_functions_are_the_cut_and_enumeration_ones(monkeypatch):
+    asked = []
+    monkeypatch.setattr(compiling, "compiled", lambda function: asked.append(function) or True)
+    compiling.compile_rarely_used()
+    assert [f.__name__ for f in asked] == ["violated_triples", "_cut_counts", "_extend"]
 
 
 def test_the_first_writable_folder_is_chosen(tmp_path):
