@@ -104,6 +104,16 @@ def test_robots_bound_star_needs_one_robot_per_kpoi():
     assert colgen.robots_lower_bound(D, 2.0, tours=True) == 6
 
 
+def test_the_messages_are_the_stop_reasons_in_words():
+    # robots_bound reports why its column generation stopped; the texts are what users read
+    D = _euclidean(8, 21)
+    info = colgen.robots_bound(D, 1.3 * least_makespan(D, tours=False), tours=False)
+    assert type(info.message) is str and info.message in set(colgen.Stop)
+    stopped = colgen._Stopped(1.0, 2.0, 3, colgen.Stop.MASTER_FAILED, "Infeasible")
+    assert stopped.message == "master LP: Infeasible"
+    assert colgen._Stopped(1.0, 2.0, 3, colgen.Stop.LP_SOLVED).message == "LP solved"
+
+
 def test_time_limit_still_valid():
     D = _euclidean(9, 21)
     optimum = setpart.min_makespan(D, 2, tours=True).objective

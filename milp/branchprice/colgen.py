@@ -77,9 +77,11 @@ than ``MAX_CELLS`` grid cells the trivial bound is returned.
 
 from __future__ import annotations
 
+import enum
 import math
 import time
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import highspy
 import numpy as np
@@ -108,6 +110,44 @@ BISECTION_TOL = 1e-4
 PRICING_SECONDS_PER_CELL = 4e-8
 
 
+class Stop(enum.StrEnum):
+    """Why column generation at one length budget stopped (:func:`_fewest_routes_lp`). A
+    :class:`enum.StrEnum`, so each member also equals its string, which is the text
+    :attr:`BoundInfo.message` reports."""
+
+    #: The certified bound exceeds the target: more routes than the target are needed.
+    PROVEN = "proven"
+    #: The master's value is at most the target: the target cannot be proven at this budget.
+    MASTER_WITHIN_TARGET = "master within target"
+    #: No target, and the bound and the master's value round up to the same count.
+    ROUNDED_BOUND_CLOSED = "rounded bound closed"
+    #: The bound reached the master's value: the LP is solved.
+    LP_SOLVED = "LP solved"
+    #: The pricing found no new column and did not raise the bound.
+    NO_NEW_COLUMN = "no new column"
+    #: The time ran out, or the next pricing would end after it, or a race's other entrant
+    #: proved the answer (also :func:`makespan_bound`'s message when this stops its bisection).
+    TIME_LIMIT = "time limit"
+    #: HiGHS did not solve the master LP to optimality (the message adds its model status).
+    MASTER_FAILED = "master LP"
+
+
+class _Stopped(NamedTuple):
+    """Where column generation at one budget stopped (:func:`_fewest_routes_lp`)."""
+
+    farley: float
+    master_value: float
+    iterations: int
+    why: Stop
+    #: HiGHS's model status when ``why`` is :attr:`Stop.MASTER_FAILED`, else empty.
+    status: str = ""
+
+    @property
+    def message(self) -> str:
+        """Why it stopped, in words: ``why``'s text, and the model status after it when HiGHS failed."""
+        return f"{self.why}: {self.status}" if self.why is Stop.MASTER_FAILED else self.why.value
+
+
 @dataclass
 class BoundInfo:
     """What a bound computation did.
@@ -126,7 +166,8 @@ class BoundInfo:
     seconds : float
         Wall-clock time.
     message : str
-        Why it stopped.
+        Why it stopped (after column generation in :func:`robots_bound`, the text of a
+        :class:`Stop`, with HiGHS's model status after it when the master LP failed).
     routes : list of list of int
         :func:`robots_bound` with ``routes=True``: routes within the deadline from the
         generated columns (:func:`master_routes`), in the indices of the merged matrix
@@ -305,8 +346,8 @@ def _single_kpoi_master(pricer: _Pricer) -> _Master:
 
 def _fewest_routes_lp(
     master: _Master, pricer: _Pricer, L: int, target: float | None, ends_at: float | None,
-) -> tuple[float, float, int, str]:
-    """Column generation at budget ``L``: ``(farley, master_value, iterations, why)``.
+) -> _Stopped:
+    """Column generation at budget ``L``: ``(farley, master_value, iterations, why, status)``.
 
     ``farley`` is a certified lower bound (4) on :math:`z'`. Stops when it exceeds
     ``target``, when the master's value is at most ``target`` (a target cannot be
@@ -322,34 +363,36 @@ def _fewest_routes_lp(
     while True:
         h.run()
         if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
-            return farley, value, iterations, f"master LP: {h.modelStatusToString(h.getModelStatus())}"
+            status = h.modelStatusToString(h.getModelStatus())
+            return _Stopped(farley, value, iterations, Stop.MASTER_FAILED, status)
         value = float(h.getInfo().objective_function_value)
         duals = np.maximum(np.asarray(h.getSolution().row_dual, dtype=np.float64), 0.0)
         pi = duals if center is None else SMOOTHING * center + (1 - SMOOTHING) * duals
         if stop_requested() or (ends_at is not None and time.perf_counter() + pricer.pricing_seconds(L) > ends_at):
-            return farley, value, iterations, "time limit"  # stop_requested: a race's other entrant proved it
+            # stop_requested: a race's other entrant proved it
+            return _Stopped(farley, value, iterations, Stop.TIME_LIMIT)
         M, walks, needs = pricer.price(pi, L)
         iterations += 1
         improved = M > 0 and float(pi.sum()) / (M * (1 + CERT_TOL)) > farley
         if improved:
             farley, center = float(pi.sum()) / (M * (1 + CERT_TOL)), pi / M
         if target is not None and farley > target * (1 + CERT_TOL) + CERT_TOL:
-            return farley, value, iterations, "proven"
+            return _Stopped(farley, value, iterations, Stop.PROVEN)
         if target is not None and value <= target * (1 + CERT_TOL) + CERT_TOL:
-            return farley, value, iterations, "master within target"
+            return _Stopped(farley, value, iterations, Stop.MASTER_WITHIN_TARGET)
         if target is None and math.ceil(farley - 1e-6) >= math.ceil(value - 1e-6):
-            return farley, value, iterations, "rounded bound closed"
+            return _Stopped(farley, value, iterations, Stop.ROUNDED_BOUND_CLOSED)
         if farley >= value * (1 - 1e-7):
-            return farley, value, iterations, "LP solved"
+            return _Stopped(farley, value, iterations, Stop.LP_SOLVED)
         if ends_at is not None and time.perf_counter() >= ends_at:
-            return farley, value, iterations, "time limit"
+            return _Stopped(farley, value, iterations, Stop.TIME_LIMIT)
         counts = [np.bincount(w - 1, minlength=master.n) for w in walks]
         keep = [i for i, c in enumerate(counts) if float(c @ duals) > 1 + 1e-9]
         fresh = master.add([walks[i] for i in keep], [needs[i] for i in keep])
         if fresh:
             master.extend(h, fresh)
         elif not improved:
-            return farley, value, iterations, "no new column"
+            return _Stopped(farley, value, iterations, Stop.NO_NEW_COLUMN)
 
 
 def _pricing_fits(pricer: _Pricer, L: int, time_limit: TimeLimit) -> bool:
@@ -427,11 +470,11 @@ def makespan_bound(
     info.message = "converged"
     while hi - lo > BISECTION_TOL * hi:
         if time_limit.expired():  # its clock, or a race's other entrant proved it (milp.core.timelimit.stopping)
-            info.message = "time limit"
+            info.message = Stop.TIME_LIMIT.value
             break
         T = 0.5 * (lo + hi)
-        farley, value, its, why = _fewest_routes_lp(master, pricer, pricer.budget(T, delta), k, ends_at)
-        proven = why == "proven"
+        farley, value, its, why, _ = _fewest_routes_lp(master, pricer, pricer.budget(T, delta), k, ends_at)
+        proven = why is Stop.PROVEN
         info.steps.append((T, proven, farley, value, its))
         if proven:
             lo = T
@@ -486,9 +529,9 @@ def robots_bound(
         info.seconds = time.perf_counter() - began
         return info
     master = _single_kpoi_master(pricer)
-    farley, value, its, why = _fewest_routes_lp(master, pricer, L, None, time_limit.ends_at)
-    info.steps.append((deadline, False, farley, value, its))
-    info.bound, info.columns, info.message = max(farley, trivial), len(master.pool), why
+    stopped = _fewest_routes_lp(master, pricer, L, None, time_limit.ends_at)
+    info.steps.append((deadline, False, stopped.farley, stopped.master_value, stopped.iterations))
+    info.bound, info.columns, info.message = max(stopped.farley, trivial), len(master.pool), stopped.message
     if routes:
         left = time_limit.remaining()
         info.routes = master_routes(master, merged, deadline, tours=tours,
