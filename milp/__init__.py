@@ -34,7 +34,8 @@ import sys
 from collections.abc import Sequence
 from importlib.machinery import ModuleSpec
 from types import ModuleType
-from typing import Any
+
+from milp.core.lazy import lazy_getattr
 
 #: Former module paths -> where the module lives now.
 _MOVED = {
@@ -63,19 +64,9 @@ _DEFINED_IN = {
 
 __all__ = sorted((*_SUBMODULES, *_DEFINED_IN))
 
-
-def __getattr__(name: str) -> Any:
-    """Import a public name's module on first use (PEP 562)."""
-    if name in _SUBMODULES:
-        value = importlib.import_module(_SUBMODULES[name])
-    elif name in _DEFINED_IN:
-        value = getattr(importlib.import_module(_DEFINED_IN[name]), name)
-    elif f"milp.{name}" in _MOVED:
-        value = importlib.import_module(_MOVED[f"milp.{name}"])
-    else:
-        raise AttributeError(f"module 'milp' has no attribute {name!r}")
-    globals()[name] = value
-    return value
+# Public names and moved modules (``milp.arcflow``) imported on first read.
+__getattr__ = lazy_getattr(__name__, globals(), _DEFINED_IN,
+                           {**{former.removeprefix("milp."): now for former, now in _MOVED.items()}, **_SUBMODULES})
 
 
 class _FormerPaths(importlib.abc.MetaPathFinder, importlib.abc.Loader):

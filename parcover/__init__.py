@@ -11,10 +11,9 @@ greedy algorithms of Min & Papanikolopoulos against the exact optima.
 4.0
 """
 
-import importlib
 from importlib.metadata import PackageNotFoundError, version
-from typing import Any
 
+from milp.core.lazy import lazy_getattr
 from parcover import generate
 from parcover.errors import InputError
 from parcover.frontier import frontier
@@ -29,12 +28,8 @@ from parcover.certify import verify  # the verifier, then re-proving the claims 
 #: Public names loaded on first use: drawing loads matplotlib, which a solve does not need.
 _LAZY = {"plot_routes": "parcover.plot", "save_routes_plot": "parcover.plot"}
 
-
-def __getattr__(name: str) -> Any:
-    """The drawing functions of :mod:`parcover.plot`, imported when first asked for (PEP 562)."""
-    if name in _LAZY:
-        return getattr(importlib.import_module(_LAZY[name]), name)
-    raise AttributeError(f"module 'parcover' has no attribute {name!r}")
+# The drawing functions of :mod:`parcover.plot`, imported when first asked for.
+__getattr__ = lazy_getattr(__name__, globals(), _LAZY)
 
 
 def __dir__() -> list[str]:

@@ -13,17 +13,10 @@
 - :mod:`~milp.branchprice.compiling`: whether the compiled functions are ready, and compiling them.
 """
 
-import importlib
-from typing import Any
+from milp.core.lazy import lazy_getattr
 
 __all__ = ["min_robots", "min_makespan", "ready_within", "compile_pricing", "MAX_KPOIS", "COMPILE_SECONDS"]
 
-
-def __getattr__(name: str) -> Any:
-    """The search's public names, loaded on first use (PEP 562): importing
-    :mod:`~milp.branchprice.colgen` alone does not load numba's labelling."""
-    if name not in __all__:
-        raise AttributeError(f"module 'milp.branchprice' has no attribute {name!r}")
-    value = getattr(importlib.import_module("milp.branchprice.search"), name)
-    globals()[name] = value
-    return value
+# The search's public names, loaded on first use: importing :mod:`~milp.branchprice.colgen`
+# alone does not load numba's labelling.
+__getattr__ = lazy_getattr(__name__, globals(), dict.fromkeys(__all__, "milp.branchprice.search"))

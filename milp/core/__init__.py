@@ -9,4 +9,5 @@
 - :mod:`~milp.core.jit`: numba's ``njit`` with an on-disk cache.
 - :mod:`~milp.core.progress`: progress lines of a long solve, through :mod:`logging`.
 - :mod:`~milp.core.orphans`: child processes that end with their parent.
+- :mod:`~milp.core.lazy`: a package's public names imported on first read (PEP 562).
 """

@@ -55,6 +55,28 @@ def test_former_names_in_a_fresh_interpreter() -> None:
     assert done.stdout.strip() == "ok", done.stderr
 
 
+@pytest.mark.parametrize("package", ["milp", "milp.branchprice", "parcover"])
+def test_an_unknown_name_is_refused_as_by_any_module(package: str) -> None:
+    with pytest.raises(AttributeError, match=rf"^module '{package}' has no attribute 'nothing'$"):
+        getattr(importlib.import_module(package), "nothing")
+
+
+def test_a_lazy_name_is_imported_once_then_kept_in_the_package() -> None:
+    import milp
+    from milp.core.timelimit import TimeLimit
+
+    milp.__dict__.pop("deadline", None)
+    assert milp.deadline.TimeLimit is TimeLimit and "deadline" in vars(milp)
+
+
+def test_the_column_generation_bounds_load_without_numba() -> None:
+    # the package's search names (numba's labelling) load only when one is read
+    script = ("import sys, milp.branchprice.colgen; "
+              "print('numba' in sys.modules, 'milp.branchprice.search' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120, cwd=ROOT)
+    assert done.stdout.split() == ["False", "False"], done.stderr
+
+
 def test_the_project_itself_uses_the_new_paths() -> None:
     """The former paths are for users' code: no module of the project imports one."""
     modules = project_modules()
