@@ -106,6 +106,7 @@ import numpy as np
 from numba import objmode
 
 from milp.core.jit import njit
+from milp.core.timelimit import stop_requested
 
 __all__ = ["Pricing", "PricingResult", "cut_coefficients", "ng_neighbourhoods", "NG_SIZE", "MAX_GRID", "MAX_CUTS",
            "KERNELS", "CUT_KERNELS"]
@@ -353,6 +354,14 @@ def _trace(label: int, parents: np.ndarray, nodes: np.ndarray) -> np.ndarray:
     return np.array(out[::-1], dtype=np.int64)
 
 
+def read_clock() -> float:
+    """The time the compiled loops compare with their end (``time.perf_counter()``), or
+    ``inf`` once the thread was asked to stop (:func:`milp.core.timelimit.stop_requested`:
+    a race's other entrant proved the answer), so that a pricing stops within one clock
+    check of the request rather than at its end."""
+    return math.inf if stop_requested() else time.perf_counter()
+
+
 @njit(cache=True)
 def completion_table(dd, back, prize, allowed, can_end, G, ends_at):  # pragma: no cover - compiled
     """``g(b, j)`` of the module docstring for ``b = 0..G`` (``-inf``: cannot end), over
@@ -373,7 +382,7 @@ def completion_table(dd, back, prize, allowed, can_end, G, ends_at):  # pragma: 
         if work >= CLOCK_EVERY:
             work = 0
             with objmode(now="float64"):
-                now = time.perf_counter()
+                now = read_clock()
             if now >= ends_at:
                 return None
         for j in range(1, m1):
@@ -542,7 +551,7 @@ def _label(arcs, prizes, budget, threshold, exact, ends_at):  # pragma: no cover
         if work >= clock:
             clock = work + CLOCK_EVERY
             with objmode(now="float64"):
-                now = time.perf_counter()
+                now = read_clock()
             if now >= ends_at:
                 complete = False
                 break

@@ -9,12 +9,16 @@ test_branchprice.py.
 from __future__ import annotations
 
 import itertools
+import threading
+import time
 
 import numpy as np
 import pytest
 
 from milp.branchprice import ngroute
 from milp.branchprice.ngroute import MAX_CUTS, Pricing
+from milp.core.routes import least_makespan
+from milp.core.timelimit import stopping
 from milp_helpers import euclidean
 
 U1 = np.uint64(1)
@@ -171,3 +175,25 @@ def test_pricing_matches_brute_force_under_branching(seed, tours):
         assert values == sorted(values, reverse=True)
     if best > threshold:
         assert expected[tuple(exact.routes[0].tolist())] == pytest.approx(best, abs=1e-12)
+
+
+def test_a_stop_request_ends_the_labelling_at_its_next_clock_check():
+    """A race's other entrant proves the answer while this process prices: the exact
+    labelling (60 KPOIs in three rooms, every prize 0.15, tours within 2 c_max: it runs
+    past 20 s when left alone) returns uncertified soon after the request, not at its
+    30 s end."""
+    from parcover.generate import random_points
+
+    D = random_points(60, 1, layout="clustered").distances
+    m = len(D) - 1
+    prize = np.concatenate(([0.0], np.full(m, 0.15)))
+    pricing = Pricing(D, tours=True, ng_size=16)
+    request = threading.Event()
+    with stopping(request):
+        threading.Timer(0.3, request.set).start()
+        began = time.perf_counter()
+        result = pricing.price(prize, 2 * least_makespan(D, tours=True), allowed=np.ones((m + 1, m + 1), bool),
+                               can_end=np.ones(m + 1, bool), exact=True, ends_at=began + 30)
+        took = time.perf_counter() - began
+    assert not result.exact
+    assert took < 5.0
