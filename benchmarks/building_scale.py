@@ -27,6 +27,8 @@ from parcover import Instance
 
 #: Map instances: (name, bitmap in instances/maps, metres per pixel: instances/maps/README.md).
 MAPS = (("hospital", "hospital.png", (0.0449, 0.0505)), ("sal2", "sal2.png", 0.03))
+#: Maps the grid does not use (:mod:`benchmarks.building_scale_unseen`).
+UNSEEN_MAPS = (("autolab", "autolab.png", (0.0247, 0.0290)), ("kwing", "SRI-AIC-kwing.png", 0.1))
 KINDS = ("uniform", "clustered", *(name for name, _, _ in MAPS))
 SEEDS = (1, 2, 3)
 N, LIMIT = 100, 120.0
@@ -40,13 +42,14 @@ QUICK = {"n": 20, "seeds": (1,), "limit": 5.0, "kinds": ("clustered", "sal2"),
 
 
 def instance(kind: str, n: int, seed: int) -> Instance:
-    """The ``kind`` instance (``uniform``, ``clustered`` or a map of :data:`MAPS`) of ``n`` KPOIs."""
+    """The ``kind`` instance (``uniform``, ``clustered`` or a map of :data:`MAPS` or
+    :data:`UNSEEN_MAPS`) of ``n`` KPOIs."""
     from parcover.generate import random_points
     from parcover.maps import instance_from_map
 
     if kind in ("uniform", "clustered"):
         return random_points(n, seed, layout=kind)
-    image, scale = {name: (image, scale) for name, image, scale in MAPS}[kind]
+    image, scale = {name: (image, scale) for name, image, scale in MAPS + UNSEEN_MAPS}[kind]
     return instance_from_map(Path(ROOT) / "instances" / "maps" / image, scale, kpois=n, seed=seed,
                              graph="visibility")
 
@@ -58,21 +61,7 @@ def run(config: Config) -> Section:
     seeds = QUICK["seeds"] if quick else SEEDS
     limit = QUICK["limit"] if quick else LIMIT
     kinds = QUICK["kinds"] if quick else KINDS
-    rows = []
-    cells = [(kind, seed) for kind in kinds for seed in seeds]
-    for number, (kind, seed) in enumerate(cells, 1):
-        began = time.perf_counter()
-        inst = instance(kind, n, seed)
-        config.log(f"[building_scale] {number}/{len(cells)} {kind} seed {seed}: built in "
-                   f"{time.perf_counter() - began:.1f} s")
-        for routes, factor in QUESTIONS:
-            tours = routes == "tours"
-            deadline = factor * least_makespan(inst.distances, tours=tours)
-            question = f"robots U={factor:g} x least"
-            config.log(f"[building_scale] {kind} seed {seed} {routes} {question}")
-            out = solve_cell(inst, "exact", tours=tours, k=None, deadline=deadline, limit=limit)
-            rows.append({"part": "robots", "kind": kind, "n": n, "seed": seed, "routes": routes,
-                         "question": question, "limit": limit, **out})
+    rows = robots_rows(config, [(kind, seed) for kind in kinds for seed in seeds], n, limit)
     if MAKESPAN or quick:
         rows += _makespan_rows(config)
     frame = pd.DataFrame(rows)
@@ -90,9 +79,28 @@ def run(config: Config) -> Section:
         "### Targets",
         "\n".join(f"- {line}" for line in lines),
         "### Results",
-        markdown_table(_table(frame)),
+        markdown_table(results_table(frame)),
     ])
     return Section("Building scale", markdown, tables={"building_scale": frame}, targets=lines)
+
+
+def robots_rows(config: Config, cells: list[tuple[str, int]], n: int, limit: float) -> list[dict]:
+    """Every question of :data:`QUESTIONS` on each ``(kind, seed)`` instance of ``n`` KPOIs."""
+    rows = []
+    for number, (kind, seed) in enumerate(cells, 1):
+        began = time.perf_counter()
+        inst = instance(kind, n, seed)
+        config.log(f"[building_scale] {number}/{len(cells)} {kind} seed {seed}: built in "
+                   f"{time.perf_counter() - began:.1f} s")
+        for routes, factor in QUESTIONS:
+            tours = routes == "tours"
+            deadline = factor * least_makespan(inst.distances, tours=tours)
+            question = f"robots U={factor:g} x least"
+            config.log(f"[building_scale] {kind} seed {seed} {routes} {question}")
+            out = solve_cell(inst, "exact", tours=tours, k=None, deadline=deadline, limit=limit)
+            rows.append({"part": "robots", "kind": kind, "n": n, "seed": seed, "routes": routes,
+                         "question": question, "limit": limit, **out})
+    return rows
 
 
 def _makespan_rows(config: Config) -> list[dict]:
@@ -115,7 +123,7 @@ def _makespan_rows(config: Config) -> list[dict]:
     return rows
 
 
-def _table(frame: pd.DataFrame) -> pd.DataFrame:
+def results_table(frame: pd.DataFrame) -> pd.DataFrame:
     """One row per cell: kind, n, seed, routes, question, our outcome."""
     out = []
     for row in frame.to_dict("records"):

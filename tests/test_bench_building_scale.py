@@ -1,11 +1,12 @@
-"""The building-scale section: its quick run, its target lines, and (slow) the real grid."""
+"""The building-scale sections (the grid, and unseen seeds and maps): their quick runs,
+their target lines, and (slow) the real grid."""
 
 from __future__ import annotations
 
 import pandas as pd
 import pytest
 
-from benchmarks import building_scale
+from benchmarks import building_scale, building_scale_unseen
 from benchmarks.common import Config
 
 
@@ -19,6 +20,16 @@ def test_quick_run_reports_every_cell_and_a_line_per_question(tmp_path):
     assert (frame["status"] != "invalid").all()
     assert all(line.startswith("exact: building scale") for line in section.targets)
     assert "### Results" in section.markdown
+
+
+def test_quick_unseen_run_reports_every_question_on_an_unseen_map(tmp_path):
+    section = building_scale_unseen.run(Config(quick=True, figures=tmp_path, figures_link="f",
+                                               log=lambda line: None))
+    frame = section.tables["building_scale_unseen"]
+    assert len(frame) == len(building_scale.QUESTIONS)
+    assert set(frame["kind"]) == {"autolab"} and set(frame["seed"]) == {building_scale_unseen.SEED}
+    assert (frame["status"] != "invalid").all()
+    assert not {"autolab", "kwing"} & set(building_scale.KINDS)  # unseen by the grid
 
 
 def test_a_target_is_met_only_when_every_cell_is_proven_in_time():
