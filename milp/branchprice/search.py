@@ -802,30 +802,42 @@ def min_makespan(
                        "warm start meets the lower bound")
     log.info("branch-and-price: makespan %.6g from the warm start, bound %.6g (gap %s)", value, lower,
              _gap(value, lower))
-    lower = search.makespan_bound = _makespan_lp_bound(
+    lower, cut_short = _makespan_lp_bound(
         search, k, lower, value,
         None if time_limit is None else began + min(BISECTION_SHARE * time_limit, BISECTION_SECONDS))
+    search.makespan_bound = lower
     log.info("branch-and-price: root LP bound %.6g (gap %s)", lower, _gap(value, lower))
-    while not search.out_of_time():
+    # a bisection cut short by its cap gets the last share of the limit back after the
+    # decisions (only the bound is left to gain there), so a long limit still buys the
+    # bound while the decisions run the same whatever the limit
+    resume = cut_short and ends_at is not None
+    with search.until(ends_at - BISECTION_SHARE * time_limit if resume else ends_at):
+        while not search.out_of_time():
+            if value <= lower * (1 + STRICT):
+                return model_result("optimal", merged, D, routes, value, value, search.nodes, began,
+                                    "lower bound reached")
+            budget = value * (1 - STRICT)
+            found, _, outcome = search.fewest_routes(budget, None, k, first=True)
+            if outcome == Ending.LEAST:
+                return model_result("optimal", merged, D, found, makespan(merged.D, found, tours=tours), lower,
+                                    search.nodes, began, "least makespan over the routes enumerated at the root")
+            if outcome == Ending.FOUND:
+                routes, value = found, makespan(merged.D, found, tours=tours)
+                log.info("branch-and-price: makespan %.6g, bound %.6g (gap %s), %d nodes", value, lower,
+                         _gap(value, lower), search.nodes)
+                continue
+            if outcome == Ending.EXHAUSTED:
+                return model_result("optimal", merged, D, routes, value, value, search.nodes, began,
+                                    "no solution within (1 - 1e-9) x the makespan")
+            break
+    if resume and not search.out_of_time():
+        lower = search.makespan_bound = max(lower, _makespan_lp_bound(search, k, lower, value, ends_at)[0])
+        log.info("branch-and-price: root LP bound resumed: %.6g (gap %s)", lower, _gap(value, lower))
         if value <= lower * (1 + STRICT):
             return model_result("optimal", merged, D, routes, value, value, search.nodes, began,
-                           "lower bound reached")
-        budget = value * (1 - STRICT)
-        found, _, outcome = search.fewest_routes(budget, None, k, first=True)
-        if outcome == Ending.LEAST:
-            return model_result("optimal", merged, D, found, makespan(merged.D, found, tours=tours), lower,
-                           search.nodes, began, "least makespan over the routes enumerated at the root")
-        if outcome == Ending.FOUND:
-            routes, value = found, makespan(merged.D, found, tours=tours)
-            log.info("branch-and-price: makespan %.6g, bound %.6g (gap %s), %d nodes", value, lower,
-                     _gap(value, lower), search.nodes)
-            continue
-        if outcome == Ending.EXHAUSTED:
-            return model_result("optimal", merged, D, routes, value, value, search.nodes, began,
-                           "no solution within (1 - 1e-9) x the makespan")
-        break
+                                "lower bound reached")
     return model_result("feasible", merged, D, routes, value, lower, search.nodes, began,
-                   "time limit" if search.out_of_time() else "a node could not be branched on")
+                        "time limit" if search.out_of_time() else "a node could not be branched on")
 
 
 def _gap(value: float, bound: float) -> str:
@@ -833,9 +845,11 @@ def _gap(value: float, bound: float) -> str:
     return f"{100 * (value - bound) / value:.2f}%" if value > 0 else "0%"
 
 
-def _makespan_lp_bound(search: BranchAndPrice, k: int, lower: float, upper: float, ends_at: float | None) -> float:
+def _makespan_lp_bound(search: BranchAndPrice, k: int, lower: float, upper: float,
+                       ends_at: float | None) -> tuple[float, bool]:
     """A certified lower bound on the least makespan by ``ends_at`` (a ``time.perf_counter()``
-    value; None: no limit), from ``lower`` (known too small) and ``upper`` (achievable).
+    value; None: no limit), from ``lower`` (known too small) and ``upper`` (achievable), and
+    whether the time ran out before the bisection's tolerance :data:`LP_BOUND_TOL`.
 
     Bisection on the root LP over ng-routes (:func:`_bisect_lp_bound`) for
     :data:`NG_BISECTION_FIRST` of the time; when that has not converged (long routes, where
@@ -850,12 +864,13 @@ def _makespan_lp_bound(search: BranchAndPrice, k: int, lower: float, upper: floa
         lower = _bisect_lp_bound(search, k, lower, upper)
         converged = not search.out_of_time()
     if converged or ends_at is None or stop_requested():  # stop_requested: as BranchAndPrice.out_of_time
-        return lower
+        return lower, not converged
     now = time.perf_counter()
     lower = colgen.makespan_lower_bound(search.pricing.D, k, tours=search.tours, upper=upper,
                                         time_limit=0.5 * (ends_at - now), lower=lower)
     with search.until(ends_at):
-        return _bisect_lp_bound(search, k, lower, upper)
+        lower = _bisect_lp_bound(search, k, lower, upper)
+        return lower, search.out_of_time()
 
 
 def _bisect_lp_bound(search: BranchAndPrice, k: int, lower: float, upper: float) -> float:

@@ -157,3 +157,13 @@ def test_a_short_time_skips_the_held_karp_part_until_it_is_remembered():
     began = time.perf_counter()
     assert lower_bound(instance, problem, seconds=0.0) == full  # remembered: free and full
     assert time.perf_counter() - began < 0.2
+
+
+def test_conflict_clique_is_skipped_above_its_size(monkeypatch):
+    """Above CLIQUE_MAX_KPOIS KPOIs no clique is looked for (an empty one bounds nothing)."""
+    angles = np.arange(12) * np.pi / 6
+    points = np.vstack(([0.0, 0.0], np.column_stack((np.cos(angles), np.sin(angles)))))
+    D = np.linalg.norm(points[:, None] - points[None, :], axis=2)
+    monkeypatch.setattr(bounds, "CLIQUE_MAX_KPOIS", 11)
+    assert bounds.conflict_clique(D, 1.0, tours=False) == []
+    assert bounds.robots_lower_bound(D, 1.0, tours=False) == 7  # the spanning-tree bound alone

@@ -325,8 +325,8 @@ def test_makespan_bound_takes_the_q_route_bound_when_the_ng_route_bisection_runs
 
     monkeypatch.setattr(branchprice.colgen, "makespan_lower_bound", recording)
     search = branchprice.BranchAndPrice(D, tours=tours, ends_at=None)
-    converged = branchprice._makespan_lp_bound(search, k, lower, upper, time.perf_counter() + 60)
-    assert not asked and lower < converged <= optimum * (1 + TOL)
+    converged, cut_short = branchprice._makespan_lp_bound(search, k, lower, upper, time.perf_counter() + 60)
+    assert not asked and not cut_short and lower < converged <= optimum * (1 + TOL)
 
     bisect = branchprice._bisect_lp_bound
     halves: list[float] = []
@@ -339,6 +339,36 @@ def test_makespan_bound_takes_the_q_route_bound_when_the_ng_route_bisection_runs
 
     monkeypatch.setattr(branchprice, "_bisect_lp_bound", out_of_time_at_first)
     search = branchprice.BranchAndPrice(D, tours=tours, ends_at=None)
-    bound = branchprice._makespan_lp_bound(search, k, lower, upper, time.perf_counter() + 60)
-    assert asked == [lower] and len(halves) == 2 and halves[1] >= lower
+    bound, cut_short = branchprice._makespan_lp_bound(search, k, lower, upper, time.perf_counter() + 60)
+    assert asked == [lower] and len(halves) == 2 and halves[1] >= lower and not cut_short
     assert bound == pytest.approx(converged, rel=1e-3) and bound <= optimum * (1 + TOL)
+
+
+def test_a_makespan_bisection_cut_short_resumes_after_the_decisions(monkeypatch):
+    """With its cap at (almost) 0 s the root LP bisection is cut short at once; the
+    decisions (here: waiting out their time, as hard ones do) then stop a quarter of the
+    limit early, and the bisection resumes in that quarter: the bound reported is the
+    bisection's converged bound, not the trivial one it started from."""
+    D = euclidean(12, 3)
+    k, tours = 3, False
+    start = [[1, 2, 3, 4], [5, 6, 7, 8], [9, 10, 11, 12]]
+    value = float(max(D[[0, *r[:-1]], r].sum() for r in start))
+    lower = least_makespan(D, tours=tours)
+    full, _ = branchprice._makespan_lp_bound(branchprice.BranchAndPrice(D, tours=tours, ends_at=None), k,
+                                             lower, value, None)
+    stopped: list[float] = []
+
+    def undecided(self, budget, incumbent, target, *, first, improve=None, floor=1):
+        while not self.out_of_time():
+            time.sleep(0.01)
+        stopped.append(time.perf_counter())
+        return None, None, tree.Ending.UNKNOWN
+
+    monkeypatch.setattr(branchprice, "BISECTION_SECONDS", 1e-6)
+    monkeypatch.setattr(branchprice.BranchAndPrice, "fewest_routes", undecided)
+    began = time.perf_counter()
+    result = branchprice.min_makespan(D, k, tours=tours, time_limit=4.0, warm_start=start)
+    assert result.status == "feasible" and result.objective == pytest.approx(value)
+    assert stopped and stopped[0] - began == pytest.approx(3.0, abs=0.5)  # 4 s less a quarter
+    assert full > 1.01 * lower  # the bisection has something to gain here
+    assert result.bound >= full * (1 - 1e-3)
