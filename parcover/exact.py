@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import logging
 import os
+import time
 from collections.abc import Callable
 from typing import Any
 
@@ -73,6 +74,17 @@ WARM_ROUNDS = {"makespan": 200, "robots": 20}
 #: wash (17.4 -> 16.6 s, 27.2 -> 29.7 s), where long tours make a root without a good
 #: incumbent dear (n = 50 seed 11 tours at 1.2 x: 1.3 -> 5.2 s).
 ROOT_FIRST_MAX = 30
+#: Above it, when the root's bound does not prove the warm start, ``best`` looks for
+#: routes meeting that bound for as long as the root took beyond the warm start, at most
+#: this share of the time left (:func:`balanced_search`). Measured (2026-11-27, a machine
+#: running two benchmarks): 100 KPOIs, hospital map seed 1, paths within ``c_max``: the
+#: root (bound 9) at 48 s, ``best`` then found 9 robots in 30 s: optimal in 79-85 s, where
+#: the tree had not found 9 in the 70 s it had (10 robots, bound 9 at 120 s); sal2 seed 2
+#: unchanged (optimal 13 in 18 s). n = 50, seeds 1-3 and 11-13, paths and tours, 1.0 and
+#: 1.2 x the least makespan, 10 s (24 questions): 24/24 proven, 38.1 s against 38.5 s (one
+#: after the other); with the root's whole time instead of what it took beyond the warm
+#: start, 41.4 s.
+IMPROVE_SHARE = 0.5
 #: ``exact`` runs ``setpart`` alone up to this many KPOIs, per objective. For the fewest
 #: robots ``branchprice`` (starting from the root, :data:`ROOT_FIRST_MAX`) overtakes it
 #: sooner: measured on 24 questions a size (seeds 1-3 and 11-13, paths and tours, 1.0
@@ -314,7 +326,13 @@ def branch_and_price(
     options: dict[str, Any] = {}
     if not warm_start and problem.objective == "robots" and instance.n <= ROOT_FIRST_MAX:
         warm_start = warm_start_routes(instance, problem, time_limit, seed, rounds=0)
-        options["improve"] = lambda floor: warm_start_routes(instance, problem, time_limit, seed, target=floor)
+        options["improve"] = lambda floor, _: warm_start_routes(instance, problem, time_limit, seed, target=floor)
+    elif problem.objective == "robots":
+        began = time.perf_counter()
+        warm_start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
+        warm_seconds = time.perf_counter() - began
+        options["improve"] = lambda floor, root_seconds: balanced_search(instance, problem, time_limit, seed, floor,
+                                                                         root_seconds - warm_seconds)
     return _warm_started(branchprice, "branchprice", instance, problem, time_limit, seed, warm_start, **options)
 
 
@@ -430,6 +448,25 @@ def warm_start_routes(
     solution = methods["best"].function(instance, problem, time_limit=budget, seed=seed, iterations=rounds,
                                         target=target)
     return solution.routes or None
+
+
+def balanced_search(instance: Instance, problem: Problem, time_limit: TimeLimit, seed: int, floor: int,
+                    seconds: float) -> list[list[int]] | None:
+    """``best``, from a seed other than the warm start's, looking for ``floor`` robots (the
+    root's bound) for ``seconds`` (what the root took beyond the warm start: the primal side
+    catches up with the dual one), at most :data:`IMPROVE_SHARE` of the time left: where
+    the root is dear (100 KPOIs in rooms) the heuristic gets as much, where it is cheap
+    it costs little."""
+    left = time_limit.remaining()
+    if left is not None:
+        seconds = min(seconds, IMPROVE_SHARE * left)
+    from parcover.solve import available_methods
+
+    methods = available_methods()
+    if "best" not in methods or seconds <= 0:
+        return None
+    log.info("improve: best for %.3g s, looking for %d robots", seconds, floor)
+    return methods["best"].function(instance, problem, time_limit=seconds, seed=seed + 1, target=floor).routes or None
 
 
 def _run(

@@ -192,3 +192,20 @@ def test_a_long_limit_keeps_back_seconds_not_a_share(monkeypatch, limit, method_
     monkeypatch.setitem(solve_module.METHODS, "recorder", MethodInfo("recorder", record, "records its time limit"))
     solve(generate.random_points(5, 1), robots=2, method="recorder", time_limit=limit)
     assert given and given[0] == pytest.approx(method_seconds, abs=0.05)
+
+
+def test_balanced_search_takes_the_roots_seconds_beyond_the_warm_start():
+    """The root took no longer than the warm start: no search. Given a second: routes
+    meeting the bound when the heuristic finds them (12 KPOIs, paths within 1.2 c_max:
+    setpart's optimum is the bound asked for)."""
+    from milp import setpart
+    from milp.core.timelimit import TimeLimit
+    from parcover.exact import balanced_search
+    from parcover.problem import Problem
+
+    instance = generate.random_points(12, 5)
+    problem = Problem("paths", deadline=1.2 * instance.c_max)
+    fewest = int(setpart.min_robots(instance.distances, problem.deadline, tours=False).objective)
+    assert balanced_search(instance, problem, TimeLimit(None), 0, fewest, 0.0) is None
+    routes = balanced_search(instance, problem, TimeLimit(None), 0, fewest, 1.0)
+    assert routes is not None and len(routes) == fewest

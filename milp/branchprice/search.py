@@ -730,8 +730,9 @@ def min_robots(
         Routes (KPOIs ``1..n``) within the deadline: the first incumbent.
     improve : callable, optional
         When the root's bound does not prove the incumbent, called once with that bound
-        (rounded up): routes within the deadline that meet it, if it finds some (a
-        heuristic that only runs when the bound leaves room: the warm start can be cheap).
+        (rounded up) and the seconds the root took: routes within the deadline that meet
+        the bound, if it finds some (a heuristic that only runs when the bound leaves
+        room: the warm start can be cheap).
 
     Returns
     -------
@@ -758,7 +759,8 @@ def min_robots(
                        "warm start meets the spanning-tree / conflict-clique bound")
     log.info("branch-and-price: %d routes from the warm start, bound %d", len(start), trivial)
     better = None if improve is None else (
-        lambda floor: checked_start(merged, D, improve(floor), tours=tours, deadline=deadline, k=None))
+        lambda floor, seconds: checked_start(merged, D, improve(floor, seconds), tours=tours, deadline=deadline,
+                                             k=None))
     routes, root, outcome = search.fewest_routes(budget, start, len(start) - 1, first=False, improve=better,
                                                  floor=trivial)
     bound = max(trivial, root or 1)

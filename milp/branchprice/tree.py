@@ -15,6 +15,7 @@ from __future__ import annotations
 import enum
 import logging
 import math
+import time
 from collections.abc import Callable, Sized
 from dataclasses import dataclass
 from typing import Protocol, TypeVar
@@ -27,8 +28,9 @@ __all__ = ["Decision", "Search", "NodeOutcome", "Why", "Ending", "Settled", "Imp
            "POOL_GROWTH"]
 
 #: A heuristic asked for routes (KPOIs ``1..n``) with at most the given number of routes
-#: within the deadline, or ``None``.
-Improve = Callable[[int], "list[list[int]] | None"]
+#: within the deadline, or ``None``; its second argument is the seconds the root took, a
+#: measure of the effort the primal side may take in balance (the caller decides).
+Improve = Callable[[int, float], "list[list[int]] | None"]
 #: A bound within this of an integer counts as that integer (LP round-off): it proves
 #: more than ``t`` routes are needed only when above ``t + ROUND`` (:func:`rounded_up`).
 ROUND = 1e-6
@@ -146,9 +148,11 @@ class Decision:
         self.root_bound: int | None = None  # set when the root is solved (None: still at it)
         self.unresolved = False  # a node was left open (pricing stalled, nothing to branch on)
         self.pool_tried = 0  # the pool's size when the integer master last ran
+        self.began = time.perf_counter()
 
     def run(self) -> Ending:
         """Search the tree; how it ended."""
+        self.began = time.perf_counter()
         stack = [Node.root(self.search.m)]
         while stack:
             if self.search.out_of_time():
@@ -213,7 +217,7 @@ class Decision:
             return []
         candidates = [self._pool_covering()]
         if self.improve is not None:
-            candidates.append(self.improve(max(1, int(rounded))))
+            candidates.append(self.improve(max(1, int(rounded)), time.perf_counter() - self.began))
         return candidates
 
     def _pool_covering(self) -> list[list[int]] | None:

@@ -167,7 +167,7 @@ def best(
     routes, info = improve(instance, problem, start, seed=seed, iterations=iterations, stop=first,
                            target=target, patience=patience_rounds)
     routes, rounds = fewer_robots(instance, problem, routes, seed=seed, iterations=iterations, stop=stop,
-                                  patience=patience_rounds)
+                                  patience=patience_rounds, target=target)
     search = Search(instance, problem)
     value = search.key(search.sequences(routes))
     info.update(value=value, iterations=info["iterations"] + rounds)
@@ -183,6 +183,7 @@ def fewer_robots(
     iterations: int | None = DEFAULT_ITERATIONS,
     stop: float | None = None,
     patience: int | None = None,
+    target: float | None = None,
 ) -> tuple[list[list[int]], int]:
     """Robots objective: meet the deadline with one route fewer, again and again.
 
@@ -193,12 +194,15 @@ def fewer_robots(
     are a better answer, and ``q`` drops by one. Ends at the first ``q`` not reached
     within ``iterations`` rounds (or by convergence, ``patience`` as in :func:`improve`,
     or by ``stop``), or at the spanning-tree bound
-    (:func:`parcover.bounds.robots_lower_bound`). Returns the routes and the rounds used.
+    (:func:`parcover.bounds.robots_lower_bound`) or ``target`` (a bound the caller proved).
+    Returns the routes and the rounds used.
     """
     deadline = problem.effective_deadline(instance)
     assert deadline is not None
     floor = robots_lower_bound(instance, deadline, tours=problem.tours,
                                seconds=None if stop is None else stop - time.perf_counter())
+    if target is not None:
+        floor = max(floor, int(target))
     rounds = 0
     while len(routes) > floor and (stop is None or time.perf_counter() < stop):
         fewer = Problem(problem.routes, robots=len(routes) - 1)

@@ -171,3 +171,13 @@ def test_fewer_robots_packs_one_robot_per_kpoi_down_towards_the_optimum(routes):
     fewest = setpart.min_robots(instance.distances, problem.deadline, tours=routes == "tours")
     found, rounds = fewer_robots(instance, problem, [[v] for v in range(1, 13)], iterations=20)
     assert fewest.objective <= len(found) < 12 and rounds > 0
+
+
+@pytest.mark.parametrize("routes", ["paths", "tours"])
+def test_fewer_robots_stops_at_its_target(routes):
+    """With a target of 10 robots (a bound a caller proved) it stops there: from 12
+    singletons within 1.2 x the least makespan (2-4 robots suffice, setpart), 10 exactly."""
+    instance = generate.random_points(12, 5)
+    problem = Problem(routes, deadline=1.2 * (2 if routes == "tours" else 1) * instance.c_max)
+    found, _ = fewer_robots(instance, problem, [[v] for v in range(1, 13)], iterations=20, target=10)
+    assert len(found) == 10

@@ -216,15 +216,17 @@ def test_improve_is_asked_once_with_the_root_bound_and_its_routes_are_checked(to
     singletons = [[j] for j in range(1, 13)]
     asked = []
 
-    def improve(floor: int) -> list[list[int]]:
-        asked.append(floor)
+    def improve(floor: int, root_seconds: float) -> list[list[int]]:
+        asked.append((floor, root_seconds))
         return ref.routes
 
+    began = time.perf_counter()
     ours = branchprice.min_robots(D, deadline, tours=tours, warm_start=singletons, improve=improve)
     assert ours.status == "optimal" and ours.objective == ref.objective
-    assert len(asked) == 1 and 1 <= asked[0] <= ref.objective  # the root bound, rounded up
+    assert len(asked) == 1 and 1 <= asked[0][0] <= ref.objective  # the root bound, rounded up
+    assert 0 < asked[0][1] <= time.perf_counter() - began  # the root's seconds
     too_long = branchprice.min_robots(D, deadline, tours=tours, warm_start=singletons,
-                                      improve=lambda floor: [list(range(1, 13))])  # one route, too long
+                                      improve=lambda floor, _: [list(range(1, 13))])  # one route, too long
     assert too_long.status == "optimal" and too_long.objective == ref.objective
     check_solution(D, too_long, tours=tours, deadline=deadline)
 
