@@ -148,11 +148,10 @@ class Decision:
         self.root_bound: int | None = None  # set when the root is solved (None: still at it)
         self.unresolved = False  # a node was left open (pricing stalled, nothing to branch on)
         self.pool_tried = 0  # the pool's size when the integer master last ran
-        self.began = time.perf_counter()
+        self.began = time.perf_counter()  # the root's seconds, for improve, count from here
 
     def run(self) -> Ending:
         """Search the tree; how it ended."""
-        self.began = time.perf_counter()
         stack = [Node.root(self.search.m)]
         while stack:
             if self.search.out_of_time():
