@@ -6,15 +6,12 @@ for tours) and within 1.2 x it, on 100 KPOIs: uniform random points, clustered o
 maps (visibility graphs of Stage floor plans in ``instances/maps/``: ``hospital.png``
 and ``sal2.png``), seeds 1-3, solved by ``parcover``'s default ``exact``
 (branch-and-price at this size, warm start from ``best`` counted) within 120 s each.
-Target: every cell proven. A second part, the least makespan with k = 3 at 50 KPOIs,
-k = 4 at 60 and k = 5 at 75 (paths and tours, uniform and clustered, 300 s), runs only
-when :data:`MAKESPAN` is switched on (``BUILDING_SCALE_MAKESPAN=1``): hours of machine
-time. Quick: 20 KPOIs, seed 1, 5 s.
+Target: every cell proven. The least makespan at 50-75 KPOIs is
+:mod:`benchmarks.building_scale_makespan`. Quick: 20 KPOIs, seed 1, 5 s.
 """
 
 from __future__ import annotations
 
-import os
 import time
 from pathlib import Path
 
@@ -34,11 +31,7 @@ SEEDS = (1, 2, 3)
 N, LIMIT = 100, 120.0
 #: (routes, deadline factor over the least makespan).
 QUESTIONS = (("paths", 1.0), ("tours", 1.0), ("paths", 1.2), ("tours", 1.2))
-#: The least-makespan part: (n, k), uniform and clustered, paths and tours, 300 s each.
-MAKESPAN_CELLS, MAKESPAN_LIMIT = ((50, 3), (60, 4), (75, 5)), 300.0
-MAKESPAN = os.environ.get("BUILDING_SCALE_MAKESPAN") == "1"
-QUICK = {"n": 20, "seeds": (1,), "limit": 5.0, "kinds": ("clustered", "sal2"),
-         "makespan": ((12, 3),), "makespan_kinds": ("uniform",), "makespan_limit": 5.0}
+QUICK = {"n": 20, "seeds": (1,), "limit": 5.0, "kinds": ("clustered", "sal2")}
 
 
 def instance(kind: str, n: int, seed: int) -> Instance:
@@ -55,16 +48,13 @@ def instance(kind: str, n: int, seed: int) -> Instance:
 
 
 def run(config: Config) -> Section:
-    """Every fewest-robots cell (and the makespan cells when switched on); table and targets."""
+    """Every fewest-robots cell; table and targets."""
     quick = config.quick
     n = QUICK["n"] if quick else N
     seeds = QUICK["seeds"] if quick else SEEDS
     limit = QUICK["limit"] if quick else LIMIT
     kinds = QUICK["kinds"] if quick else KINDS
-    rows = robots_rows(config, [(kind, seed) for kind in kinds for seed in seeds], n, limit)
-    if MAKESPAN or quick:
-        rows += _makespan_rows(config)
-    frame = pd.DataFrame(rows)
+    frame = pd.DataFrame(robots_rows(config, [(kind, seed) for kind in kinds for seed in seeds], n, limit))
     lines = target_lines(frame)
     markdown = "\n\n".join([
         f"The paper's question at building scale: the fewest robots within the least possible "
@@ -100,26 +90,6 @@ def robots_rows(config: Config, cells: list[tuple[str, int]], n: int, limit: flo
             out = solve_cell(inst, "exact", tours=tours, k=None, deadline=deadline, limit=limit)
             rows.append({"part": "robots", "kind": kind, "n": n, "seed": seed, "routes": routes,
                          "question": question, "limit": limit, **out})
-    return rows
-
-
-def _makespan_rows(config: Config) -> list[dict]:
-    """The least-makespan part: k robots at n KPOIs, uniform and clustered, paths and tours."""
-    quick = config.quick
-    cells = QUICK["makespan"] if quick else MAKESPAN_CELLS
-    limit = QUICK["makespan_limit"] if quick else MAKESPAN_LIMIT
-    seeds = QUICK["seeds"] if quick else SEEDS
-    rows = []
-    kinds = QUICK["makespan_kinds"] if quick else ("uniform", "clustered")
-    for n, k in cells:
-        for kind in kinds:
-            for seed in seeds:
-                inst = instance(kind, n, seed)
-                for routes in ("paths", "tours"):
-                    config.log(f"[building_scale] makespan {kind} n={n} k={k} seed {seed} {routes}")
-                    out = solve_cell(inst, "exact", tours=routes == "tours", k=k, deadline=None, limit=limit)
-                    rows.append({"part": "makespan", "kind": kind, "n": n, "seed": seed, "routes": routes,
-                                 "question": f"makespan k={k}", "limit": limit, **out})
     return rows
 
 

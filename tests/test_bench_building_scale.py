@@ -6,7 +6,7 @@ from __future__ import annotations
 import pandas as pd
 import pytest
 
-from benchmarks import building_scale, building_scale_unseen
+from benchmarks import building_scale, building_scale_makespan, building_scale_unseen
 from benchmarks.common import Config
 
 
@@ -32,6 +32,16 @@ def test_quick_unseen_run_reports_every_question_on_an_unseen_map(tmp_path):
     assert not {"autolab", "kwing"} & set(building_scale.KINDS)  # unseen by the grid
 
 
+def test_quick_makespan_run_reports_every_cell_with_a_line_per_kind(tmp_path):
+    section = building_scale_makespan.run(Config(quick=True, figures=tmp_path, figures_link="f",
+                                                 log=lambda line: None))
+    frame = section.tables["building_scale_makespan"]
+    quick = building_scale_makespan.QUICK
+    assert len(frame) == len(quick["cells"]) * len(quick["kinds"]) * len(quick["seeds"]) * 2  # paths, tours
+    assert (frame["status"] != "invalid").all() and set(frame["question"]) == {"makespan k=3"}
+    assert len(section.targets) == 2 and all("makespan k=3" in line for line in section.targets)
+
+
 def test_a_target_is_met_only_when_every_cell_is_proven_in_time():
     rows = [dict(part="robots", kind="clustered", n=100, seed=s, routes="tours", question="robots U=1 x least",
                  limit=120.0, status=status, objective=8.0, bound=b, seconds=t)
@@ -45,6 +55,6 @@ def test_a_target_is_met_only_when_every_cell_is_proven_in_time():
 
 @pytest.mark.slow
 def test_full_grid_runs(tmp_path):
-    """The real section (hours with the makespan part): every cell answered validly."""
+    """The real section (73 minutes): every cell answered validly."""
     section = building_scale.run(Config(quick=False, figures=tmp_path, figures_link="f", log=print))
     assert (section.tables["building_scale"]["status"] != "invalid").all()
