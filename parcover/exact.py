@@ -435,18 +435,16 @@ def warm_start_routes(
     :func:`parcover.bounds.lower_bound`, which a quarter of the questions at n = 10-15
     meet: 29 of 120 measured, mostly k = 5; those then take a fraction of the rounds)."""
     from parcover.bounds import lower_bound
-    from parcover.solve import available_methods
 
-    methods = available_methods()
-    if "best" not in methods:
+    best = _best_heuristic()
+    if best is None:
         return None
     budget = TimeLimit.of(time_limit).fraction(WARM_SHARE)
     rounds = WARM_ROUNDS[problem.objective] if rounds is None else rounds
     target = lower_bound(instance, problem, seconds=budget.seconds) if target is None else target
     log.info("warm start: best, %d rounds%s", rounds,
              "" if budget.seconds is None else f", at most {budget.seconds:.3g} s")
-    solution = methods["best"].function(instance, problem, time_limit=budget, seed=seed, iterations=rounds,
-                                        target=target)
+    solution = best(instance, problem, time_limit=budget, seed=seed, iterations=rounds, target=target)
     return solution.routes or None
 
 
@@ -460,13 +458,20 @@ def balanced_search(instance: Instance, problem: Problem, time_limit: TimeLimit,
     left = time_limit.remaining()
     if left is not None:
         seconds = min(seconds, IMPROVE_SHARE * left)
-    from parcover.solve import available_methods
-
-    methods = available_methods()
-    if "best" not in methods or seconds <= 0:
+    best = _best_heuristic()
+    if best is None or seconds <= 0:
         return None
     log.info("improve: best for %.3g s, looking for %d robots", seconds, floor)
-    return methods["best"].function(instance, problem, time_limit=seconds, seed=seed + 1, target=floor).routes or None
+    return best(instance, problem, time_limit=seconds, seed=seed + 1, target=floor).routes or None
+
+
+def _best_heuristic() -> Callable[..., Solution] | None:
+    """The registered ``best`` heuristic's function, or ``None`` when it is not available
+    (its optional dependency missing)."""
+    from parcover.solve import available_methods
+
+    method = available_methods().get("best")
+    return None if method is None else method.function
 
 
 def _run(
