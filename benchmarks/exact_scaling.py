@@ -223,8 +223,8 @@ def run(config: Config) -> Section:
         "`exact` itself (for the least makespan from 14 KPOIs a check of `best`'s constructions against the trivial "
         f"bound, then set partitioning up to {parcover_exact.SETPART_FIRST['makespan']} KPOIs "
         f"({parcover_exact.SETPART_FIRST['robots']} for the fewest robots), branch-and-price "
-        "for 2 s and set partitioning above), above that branch-and-price, which is all `exact` "
-        "runs there. The ratios are each model's time over "
+        "for 2 s and set partitioning above), above that branch-and-price (raced against "
+        "branch-and-cut as said above). The ratios are each model's time over "
         "ours; a model that does not prove within its limit L counts as L, shown as `>= L / our "
         "seconds` (a lower bound on the true ratio); a model that proves where ours does not "
         "shows `<= its seconds / our limit` (it was faster); no ratio where neither proved.",
