@@ -48,10 +48,15 @@ def _children_once_started(parent, count: int, seconds: float = 60) -> list:
     raise AssertionError(f"{parent.pid} did not start {count} children within {seconds} s")
 
 
+#: A report that runs for minutes (it is stopped within seconds): a shorter one may finish
+#: before the signal on a quiet machine (21 instances did, in 1.5 s).
+LONG_REPORT = "random:n=12:seeds=0..2000"
+
+
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM])
 def test_a_killed_report_leaves_no_worker(tmp_path, sig):
     report = subprocess.Popen(
-        [sys.executable, "-m", "parcover", "report", "random:n=12:seeds=0..20", "--workers", "2", "--no-plots",
+        [sys.executable, "-m", "parcover", "report", LONG_REPORT, "--workers", "2", "--no-plots",
          "--no-progress", "--out", str(tmp_path / "r")],
         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
     )
@@ -67,7 +72,7 @@ def test_a_killed_report_leaves_no_worker(tmp_path, sig):
 def test_an_interrupted_report_leaves_no_worker(tmp_path):
     # Ctrl-C reaches the whole process group: the report stops, its workers with it
     report = subprocess.Popen(
-        [sys.executable, "-m", "parcover", "report", "random:n=12:seeds=0..20", "--workers", "2", "--no-plots",
+        [sys.executable, "-m", "parcover", "report", LONG_REPORT, "--workers", "2", "--no-plots",
          "--no-progress", "--out", str(tmp_path / "r")],
         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, start_new_session=True,
     )
