@@ -811,35 +811,54 @@ def min_makespan(
     log.info("branch-and-price: root LP bound %.6g (gap %s)", lower, _gap(value, lower))
     # a bisection cut short by its cap gets the last share of the limit back after the
     # decisions (only the bound is left to gain there), so a long limit still buys the
-    # bound while the decisions run the same whatever the limit
+    # bound while the decisions run the same whatever the limit; what the resumed
+    # bisection leaves goes back to the decisions
     resume = cut_short and ends_at is not None
+    decisions = _MakespanDecisions(search, k, routes, value)
     with search.until(ends_at - BISECTION_SHARE * time_limit if resume else ends_at):
-        while not search.out_of_time():
-            if value <= lower * (1 + STRICT):
-                return model_result("optimal", merged, D, routes, value, value, search.nodes, began,
-                                    "lower bound reached")
-            budget = value * (1 - STRICT)
-            found, _, outcome = search.fewest_routes(budget, None, k, first=True)
-            if outcome == Ending.LEAST:
-                return model_result("optimal", merged, D, found, makespan(merged.D, found, tours=tours), lower,
-                                    search.nodes, began, "least makespan over the routes enumerated at the root")
-            if outcome == Ending.FOUND:
-                routes, value = found, makespan(merged.D, found, tours=tours)
-                log.info("branch-and-price: makespan %.6g, bound %.6g (gap %s), %d nodes", value, lower,
-                         _gap(value, lower), search.nodes)
-                continue
-            if outcome == Ending.EXHAUSTED:
-                return model_result("optimal", merged, D, routes, value, value, search.nodes, began,
-                                    "no solution within (1 - 1e-9) x the makespan")
-            break
-    if resume and not search.out_of_time():
-        lower = search.makespan_bound = max(lower, _makespan_lp_bound(search, k, lower, value, ends_at)[0])
-        log.info("branch-and-price: root LP bound resumed: %.6g (gap %s)", lower, _gap(value, lower))
-        if value <= lower * (1 + STRICT):
-            return model_result("optimal", merged, D, routes, value, value, search.nodes, began,
-                                "lower bound reached")
+        proof = decisions.run(lower)
+    if proof is None and resume and decisions.timed_out and not search.out_of_time():
+        lower = search.makespan_bound = max(lower, _makespan_lp_bound(search, k, lower, decisions.value, ends_at)[0])
+        log.info("branch-and-price: root LP bound resumed: %.6g (gap %s)", lower, _gap(decisions.value, lower))
+        proof = decisions.run(lower)
+    routes, value = decisions.routes, decisions.value
+    if proof is not None:
+        found, bound, message = proof
+        return model_result("optimal", merged, D, found, makespan(merged.D, found, tours=tours), bound,
+                            search.nodes, began, message)
     return model_result("feasible", merged, D, routes, value, lower, search.nodes, began,
                         "time limit" if search.out_of_time() else "a node could not be branched on")
+
+
+class _MakespanDecisions:
+    """The fewest-routes decisions of :func:`min_makespan`, each below the best makespan
+    found (``routes``, ``value``), while the search's time lasts."""
+
+    def __init__(self, search: BranchAndPrice, k: int, routes: list[list[int]], value: float) -> None:
+        self.search, self.k, self.routes, self.value = search, k, routes, value
+        self.timed_out = False  # whether the last run stopped for the time, not at a node
+
+    def run(self, lower: float) -> tuple[list[list[int]], float, str] | None:
+        """Decide until a proof, the time limit or a node that cannot be branched on: the
+        proof as (routes, bound, message), or None."""
+        search = self.search
+        while not search.out_of_time():
+            if self.value <= lower * (1 + STRICT):
+                return self.routes, self.value, "lower bound reached"
+            found, _, outcome = search.fewest_routes(self.value * (1 - STRICT), None, self.k, first=True)
+            if outcome == Ending.LEAST:
+                return found, lower, "least makespan over the routes enumerated at the root"
+            if outcome == Ending.FOUND:
+                self.routes, self.value = found, makespan(search.pricing.D, found, tours=search.tours)
+                log.info("branch-and-price: makespan %.6g, bound %.6g (gap %s), %d nodes", self.value, lower,
+                         _gap(self.value, lower), search.nodes)
+                continue
+            if outcome == Ending.EXHAUSTED:
+                return self.routes, self.value, "no solution within (1 - 1e-9) x the makespan"
+            self.timed_out = search.out_of_time()
+            return None
+        self.timed_out = True
+        return None
 
 
 def _gap(value: float, bound: float) -> str:

@@ -350,7 +350,8 @@ def test_a_makespan_bisection_cut_short_resumes_after_the_decisions(monkeypatch)
     """With its cap at (almost) 0 s the root LP bisection is cut short at once; the
     decisions (here: waiting out their time, as hard ones do) then stop a quarter of the
     limit early, and the bisection resumes in that quarter: the bound reported is the
-    bisection's converged bound, not the trivial one it started from."""
+    bisection's converged bound, not the trivial one it started from. The time the
+    resumed bisection leaves goes back to the decisions."""
     D = euclidean(12, 3)
     k, tours = 3, False
     start = [[1, 2, 3, 4], [5, 6, 7, 8], [9, 10, 11, 12]]
@@ -372,5 +373,6 @@ def test_a_makespan_bisection_cut_short_resumes_after_the_decisions(monkeypatch)
     result = branchprice.min_makespan(D, k, tours=tours, time_limit=4.0, warm_start=start)
     assert result.status == "feasible" and result.objective == pytest.approx(value)
     assert stopped and stopped[0] - began == pytest.approx(3.0, abs=0.5)  # 4 s less a quarter
+    assert len(stopped) == 2 and stopped[1] - began == pytest.approx(4.0, abs=0.5)  # and the rest
     assert full > 1.01 * lower  # the bisection has something to gain here
     assert result.bound >= full * (1 - 1e-3)
