@@ -188,6 +188,9 @@ def test_a_stop_request_ends_the_labelling_at_its_next_clock_check():
     m = len(D) - 1
     prize = np.concatenate(([0.0], np.full(m, 0.15)))
     pricing = Pricing(D, tours=True, ng_size=16)
+    small = Pricing(D[:8, :8], tours=True, ng_size=16)  # compiled or loaded before the clock starts
+    small.price(prize[:8], 2 * least_makespan(D[:8, :8], tours=True), allowed=np.ones((8, 8), bool),
+                can_end=np.ones(8, bool), exact=True)
     request = threading.Event()
     with stopping(request):
         threading.Timer(0.3, request.set).start()
