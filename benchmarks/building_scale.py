@@ -55,8 +55,7 @@ def run(config: Config) -> Section:
     limit = QUICK["limit"] if quick else LIMIT
     kinds = QUICK["kinds"] if quick else KINDS
     frame = pd.DataFrame(robots_rows(config, [(kind, seed) for kind in kinds for seed in seeds], n, limit))
-    lines = target_lines(frame)
-    markdown = "\n\n".join([
+    intro = (
         f"The paper's question at building scale: the fewest robots within the least possible "
         f"makespan (`c_max` for paths, `2 c_max` for tours) and within 1.2 x it, {n} KPOIs, "
         f"seeds {', '.join(map(str, seeds))}, {limit:g} s a cell, `parcover solve`'s default `exact` "
@@ -65,13 +64,18 @@ def run(config: Config) -> Section:
         "KPOIs around three centres: rooms), and visibility-graph maps of Stage floor plans "
         f"({', '.join(f'`{image}`' for _, image, _ in MAPS)}; `parcover generate map --graph "
         "visibility`, KPOIs drawn with the seed). A cell left unproven shows its robots and the "
-        "certified bound.",
-        "### Targets",
-        "\n".join(f"- {line}" for line in lines),
-        "### Results",
-        markdown_table(results_table(frame)),
-    ])
-    return Section("Building scale", markdown, tables={"building_scale": frame}, targets=lines)
+        "certified bound.")
+    return cells_section("Building scale", "building_scale", intro, frame)
+
+
+def cells_section(title: str, table: str, intro: str, frame: pd.DataFrame) -> Section:
+    """A section of building-scale cells: ``intro``, a target line per question and kind
+    (:func:`target_lines`), and the results (:func:`results_table`), ``frame`` kept as
+    ``table``."""
+    lines = target_lines(frame)
+    markdown = "\n\n".join([intro, "### Targets", "\n".join(f"- {line}" for line in lines),
+                             "### Results", markdown_table(results_table(frame))])
+    return Section(title, markdown, tables={table: frame}, targets=lines)
 
 
 def robots_rows(config: Config, cells: list[tuple[str, int]], n: int, limit: float) -> list[dict]:

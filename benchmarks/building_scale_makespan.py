@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import pandas as pd
 
-from benchmarks.building_scale import instance, results_table, target_lines
-from benchmarks.common import Config, Section, markdown_table
+from benchmarks.building_scale import cells_section, instance
+from benchmarks.common import Config, Section
 from benchmarks.exact_scaling import solve_cell
 
 #: (n, k) cells, the kinds and seeds of each, and the seconds a cell.
@@ -39,18 +39,11 @@ def run(config: Config) -> Section:
                     rows.append({"part": "makespan", "kind": kind, "n": n, "seed": seed, "routes": routes,
                                  "question": f"makespan k={k}", "limit": limit, **out})
     frame = pd.DataFrame(rows)
-    lines = target_lines(frame)
-    markdown = "\n\n".join([
+    intro = (
         "The least makespan with a few long routes at building scale: "
         + ", ".join(f"k = {k} at {n} KPOIs" for n, k in cells)
         + f", paths and tours, {' and '.join(kinds)} instances (`parcover generate random`; the "
         f"clustered ones draw KPOIs around three centres), seeds {', '.join(map(str, seeds))}, "
         f"{limit:g} s a cell, `parcover solve`'s default `exact` (the warm start from `best` counted in "
-        "its seconds). A cell left unproven shows its makespan and the certified bound.",
-        "### Targets",
-        "\n".join(f"- {line}" for line in lines),
-        "### Results",
-        markdown_table(results_table(frame)),
-    ])
-    return Section("Building scale, least makespan", markdown, tables={"building_scale_makespan": frame},
-                   targets=lines)
+        "its seconds). A cell left unproven shows its makespan and the certified bound.")
+    return cells_section("Building scale, least makespan", "building_scale_makespan", intro, frame)

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import pandas as pd
 
-from benchmarks.building_scale import LIMIT, N, QUESTIONS, UNSEEN_MAPS, results_table, robots_rows, target_lines
-from benchmarks.common import Config, Section, markdown_table
+from benchmarks.building_scale import LIMIT, N, QUESTIONS, UNSEEN_MAPS, cells_section, robots_rows
+from benchmarks.common import Config, Section
 
 SEED = 21
 KINDS = ("uniform", "clustered", *(name for name, _, _ in UNSEEN_MAPS))
@@ -23,17 +23,10 @@ def run(config: Config) -> Section:
     """Every question on every unseen instance; table and target lines."""
     n, limit, kinds = (QUICK["n"], QUICK["limit"], QUICK["kinds"]) if config.quick else (N, LIMIT, KINDS)
     frame = pd.DataFrame(robots_rows(config, [(kind, SEED) for kind in kinds], n, limit))
-    lines = target_lines(frame)
     maps = ", ".join(f"`{image}`" for _, image, _ in UNSEEN_MAPS)
-    markdown = "\n\n".join([
+    intro = (
         f"The building-scale questions ({len(QUESTIONS)} per instance: the fewest robots within "
         f"the least makespan and within 1.2 x it, paths and tours), {n} KPOIs, {limit:g} s a cell, "
         f"on instances never used while designing: uniform and clustered of seed {SEED}, and the "
-        f"Stage floor plans {maps} (visibility graphs, KPOIs drawn with seed {SEED}).",
-        "### Targets",
-        "\n".join(f"- {line}" for line in lines),
-        "### Results",
-        markdown_table(results_table(frame)),
-    ])
-    return Section("Building scale, unseen instances", markdown, tables={"building_scale_unseen": frame},
-                   targets=lines)
+        f"Stage floor plans {maps} (visibility graphs, KPOIs drawn with seed {SEED}).")
+    return cells_section("Building scale, unseen instances", "building_scale_unseen", intro, frame)
