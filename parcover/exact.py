@@ -17,7 +17,11 @@ independently. Six methods:
   :data:`RACE_MAX_KPOIS` KPOIs,
   ``branchprice`` in this process for the whole time, against ``branchcut`` in another
   from :data:`BRANCHPRICE_FIRST` seconds on, on two cores (:func:`_race_makespan`; the
-  first proof stops the other; one core: ``branchprice`` alone);
+  first proof stops the other; one core: ``branchprice`` alone); for the fewest robots
+  above :data:`ROOT_FIRST_MAX` KPOIs, ``branchprice`` here against PyVRP's search for
+  fewer routes in another process, which stops when its routes meet the bound
+  ``branchprice``'s root proved (:func:`_race_robots`; one core: ``best`` looks for
+  them after the root, :func:`balanced_search`);
   on the first use after installation, when the time limit leaves no room to compile
   ``branchprice``'s pricing (:data:`milp.branchprice.COMPILE_SECONDS`), ``setpart`` to 20
   KPOIs and ``compact`` above;
@@ -41,18 +45,24 @@ from __future__ import annotations
 
 import logging
 import os
+import tempfile
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
+from milp.core.sizes import (
+    BRANCHCUT_MAX_KPOIS,
+    BRANCHPRICE_MAX_KPOIS,
+    SETPART_MAX_KPOIS,
+)
 from milp.core.timelimit import TimeLimit, TimeLimitLike
-from milp.core.sizes import BRANCHCUT_MAX_KPOIS, BRANCHPRICE_MAX_KPOIS, SETPART_MAX_KPOIS
 from parcover.errors import InputError
 from parcover.instance import Instance
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.result import Status
 
-__all__ = ["exact", "compact", "branch_and_price", "branch_and_cut", "setpart", "cvxpy_model", "METHODS", "warm_start_routes"]
+__all__ = ["METHODS", "branch_and_cut", "branch_and_price", "compact", "cvxpy_model", "exact", "setpart", "warm_start_routes"]
 
 log = logging.getLogger(__name__)
 
@@ -165,6 +175,8 @@ def exact(
         if (problem.objective == "makespan" and problem.robots <= RACE_ROUTES and instance.n <= RACE_MAX_KPOIS
                 and race.cores() >= 2):
             return _race_makespan(instance, problem, time_limit, seed, warm_start)
+        if problem.objective == "robots" and instance.n > ROOT_FIRST_MAX and race.cores() >= 2:
+            return _race_robots(instance, problem, time_limit, seed, warm_start)
         log.info("exact: branch-and-price")
         return branch_and_price(instance, problem, time_limit=time_limit, seed=seed, warm_start=warm_start)
     log.info("exact: branch-and-price for at most %g s, then setpart", BRANCHPRICE_FIRST)
@@ -208,6 +220,55 @@ def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, 
     solution.info["model"] = name
     if len(answers) > 1 or solution.status is None:
         solution.info["message"] = "; ".join(f"{n}: {a.message}" for n, a in answers.items())
+    return solution
+
+
+def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, seed: int,
+                 warm_start: list[list[int]] | None) -> Solution:
+    """The fewest robots above :data:`ROOT_FIRST_MAX` KPOIs: :func:`milp.branchprice.min_robots`
+    in this process for the whole time limit, and, unless it has proved the answer within
+    :data:`BRANCHPRICE_FIRST` seconds, PyVRP's search for the fewest routes in another
+    process (:func:`parcover.algorithms.fleet.race_entrant`, :func:`milp.race.race_here`).
+    Branch-and-price hands the bound its root proves to PyVRP (a file), which stops as soon
+    as its routes meet it: optimal then, and branch-and-price is stopped. This replaces
+    :func:`balanced_search`, which takes the same search into this process after the root.
+    ``info["model"]`` is ``branchprice`` (whose bound proves the answer); the message says
+    whose routes these are."""
+    from milp import branchprice, race
+
+    start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
+    deadline = problem.effective_deadline(instance)
+    with tempfile.TemporaryDirectory(prefix="parcover-") as folder:
+        bound_file = Path(folder) / "bound"
+        bound_file.write_text("")
+
+        def hand_over(floor: int, _root_seconds: float) -> None:
+            bound_file.write_text(str(floor))
+
+        log.info("exact: branch-and-price, and PyVRP's search for fewer routes in another process after %g s "
+                 "unless proven by then", BRANCHPRICE_FIRST)
+        answers = race.race_here(
+            "branchprice", branchprice.min_robots, {"pyvrp": "parcover.algorithms.fleet:race_entrant"},
+            (instance.distances, deadline),
+            {"tours": problem.tours, "warm_start": start,
+             "improve": hand_over},
+            time_limit.remaining(), others_after=BRANCHPRICE_FIRST,
+            others_kwargs={"tours": problem.tours, "bound_file": str(bound_file), "seed": seed})
+    answered = {n: a for n, a in answers.items() if a.objective is not None}
+    if not answered:
+        return Solution(routes=start or [], info={"model": "branchprice", "message": "; ".join(
+            f"{n}: {a.message}" for n, a in answers.items()) or "no answer"})
+    name, answer = min(answered.items(), key=lambda item: (item[1].objective, item[1].status != "optimal"))
+    bounds = [a.bound for a in answers.values() if a.bound is not None]
+    solution = _solution(answer)
+    if bounds:
+        solution.bound = max(bounds)
+        if answer.objective <= solution.bound:
+            solution.status = Status.OPTIMAL
+    solution.info["model"] = "branchprice"
+    solution.info["message"] = "; ".join(f"{n}: {a.message}" for n, a in answers.items())
+    if name != "branchprice":
+        solution.info["message"] = f"routes by PyVRP ({solution.info['message']})"
     return solution
 
 
@@ -508,7 +569,8 @@ def _solution(answer: Any) -> Solution:
 METHODS = (
     MethodInfo("exact", exact, f"proven optimum: setpart up to {SETPART_FIRST['makespan']} KPOIs, branchprice then "
                f"setpart to {SETPART_MAX_KPOIS}, branchprice to {BRANCHPRICE_MAX_KPOIS} (least makespan with at most "
-               f"{RACE_ROUTES} robots to {RACE_MAX_KPOIS} KPOIs: raced against branchcut), compact above (default)",
+               f"{RACE_ROUTES} robots to {RACE_MAX_KPOIS} KPOIs: raced against branchcut; fewest robots above {ROOT_FIRST_MAX}: "
+               "PyVRP looks for routes meeting its bound beside it), compact above (default)",
                ("warm_start", "export_model")),
     MethodInfo("compact", compact, "proven optimum: compact arc-flow MILP in HiGHS", ("warm_start", "export_model")),
     MethodInfo("branchprice", branch_and_price,

@@ -18,7 +18,6 @@ from parcover import Instance
 needs_ortools = pytest.mark.skipif(
     importlib.util.find_spec("ortools") is None, reason="ortools not installed"
 )
-needs_pyvrp = pytest.mark.skipif(importlib.util.find_spec("pyvrp") is None, reason="pyvrp not installed")
 
 
 @pytest.fixture
@@ -49,7 +48,6 @@ def test_ortools_peer_finds_the_two_sided_optimum(two_sided_line, routes, makesp
     assert hq.checked_peer_routes(two_sided_line, answer, routes, robots=2) == (pytest.approx(makespan), 2)
 
 
-@needs_pyvrp
 @pytest.mark.parametrize("routes, deadline", [("paths", 2.0), ("tours", 4.0)])
 def test_pyvrp_peer_needs_two_robots_on_the_two_sided_line(two_sided_line, routes, deadline):
     payload = {"distances": two_sided_line.distances.tolist(), "deadline": deadline, "routes": routes,
@@ -125,7 +123,6 @@ def test_makespan_table_ratios_are_consistent():
     assert (frame["best"] <= frame["paper"] * (1 + 1e-9)).all()
 
 
-@needs_pyvrp
 def test_fleet_table_ratios_are_consistent():
     frame = hq.fleet_table((6,), (0,), 0.2, no_log)
     instance = hq.random_instance(6, 0)

@@ -1,0 +1,125 @@
+"""The fewest routes within a deadline by PyVRP's iterated local search.
+
+PyVRP (Wouda, Lan and Kool 2024) minimises fixed vehicle costs plus distance; with one
+vehicle type whose fixed cost exceeds any total length and whose ``max_distance`` is the
+deadline, its search minimises the routes first (the paper's Problem 2, the fewest robots
+within ``c_p``) and the total length second. ``exact`` asks it for routes meeting the
+bound its root proved (:func:`parcover.exact.balanced_search`): at 100 KPOIs in rooms and
+on floor plans it finds one route fewer than ``best`` in the same time on some of the
+building-scale questions (``milp/README.md``).
+
+Integer lengths: PyVRP takes integer distances, so lengths are scaled by ``s`` and rounded
+*up*, and the deadline becomes ``floor(U s) + n + 1``. Each of a route's at most ``n + 1``
+arcs gains less than 1 by its rounding, so every route within ``U`` in floats is within
+the integer deadline (the farthest KPOI's own route at ``U = c_max`` included), and every
+route within the integer deadline is at most ``(n + 1) / s`` over ``U``; ``s`` makes that
+half the shared tolerance of :func:`milp.core.routes.within` at ``U``. The routes are
+checked in floats all the same.
+
+Open paths end at a second depot at distance 0 from every KPOI, so a path's length is
+the route length PyVRP checks.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from milp.bounds import robots_lower_bound
+from milp.core.result import MilpResult
+from milp.core.routes import ABS_TOL, REL_TOL, route_cost, within
+
+__all__ = ["fewest_routes", "race_entrant"]
+
+#: Seconds between two reads of the bound file by :func:`race_entrant`.
+BOUND_READ_SECONDS = 0.25
+
+
+def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float, seed: int = 0,
+                  floor: int | Callable[[], int] = 1) -> list[list[int]] | None:
+    """Routes covering KPOIs ``1..n`` of ``D``, each within ``deadline``, as few as PyVRP
+    finds in ``seconds``; it stops early at ``floor`` routes (a proven bound, or a function
+    returning the bound proven so far). ``None`` when it finds no routes within the deadline."""
+    from pyvrp import Model
+    from pyvrp.stop import MaxRuntime, MultipleCriteria
+
+    n = len(D) - 1
+    scale = 2 * (n + 1) / (deadline * REL_TOL + ABS_TOL)
+    limit = math.floor(deadline * scale) + n + 1
+    # Arcs longer than the deadline are never used: capping them keeps the integers small.
+    arcs = np.minimum(np.ceil(np.asarray(D, dtype=float) * scale), limit + 1).astype(np.int64)
+    np.fill_diagonal(arcs, 0)
+    fixed = (n + 1) * (limit + 1)  # more than the total length of routes within the deadline
+
+    model = Model()
+    points = [model.add_location(0, 0) for _ in range(n + 1)]
+    start = end = model.add_depot(points[0])
+    if not tours:
+        finish = model.add_location(0, 0)
+        end = model.add_depot(finish)
+        for point in points:
+            model.add_edge(point, finish, distance=0)
+    for point in points[1:]:
+        model.add_client(point)
+    model.add_vehicle_type(num_available=n, start_depot=start, end_depot=end, fixed_cost=fixed,
+                           max_distance=limit)
+    for i in range(n + 1):
+        for j in range(n + 1):
+            if i != j:
+                model.add_edge(points[i], points[j], distance=int(arcs[i, j]))
+
+    def enough(cost: float) -> bool:
+        return cost < ((floor() if callable(floor) else floor) + 1) * fixed
+
+    with warnings.catch_warnings():  # its penalty warnings speak of its own parameters
+        warnings.simplefilter("ignore")
+        result = model.solve(MultipleCriteria([MaxRuntime(max(seconds, 0.0)), enough]), seed=seed, display=False,
+                             collect_stats=False)
+    found = result.best
+    if not (found.is_feasible() and found.is_complete()):
+        return None
+    # Client activities count the clients from 0 in the order added: KPOI i is client i - 1.
+    routes = [[activity.idx + 1 for activity in route if activity.is_client()] for route in found.routes()]
+    routes = [route for route in routes if route]
+    if not all(within(route_cost(D, route, tours=tours), deadline) for route in routes):
+        return None
+    return routes
+
+
+def race_entrant(D: np.ndarray, deadline: float, *, tours: bool, bound_file: str, seed: int = 0,
+                 time_limit: float | None = None) -> MilpResult:
+    """:func:`fewest_routes` as an entrant of :func:`milp.race.race_here`, beside
+    branch-and-price: it stops as soon as its routes meet the bound branch-and-price has
+    proved, which that one writes to ``bound_file`` (an integer; empty until the root is
+    solved), read every :data:`BOUND_READ_SECONDS`. Its answer is ``"optimal"`` then (the
+    bound is proven; the routes are checked here), else ``"feasible"``. Until the root is
+    solved, the bound is the one :func:`milp.bounds.robots_lower_bound` proves."""
+    began = time.perf_counter()
+    cheap = robots_lower_bound(D, deadline, tours=tours, time_limit=time_limit)  # as branch-and-price
+    last = {"read": 0.0, "bound": cheap}
+
+    def proven() -> int:
+        now = time.perf_counter()
+        if now - last["read"] >= BOUND_READ_SECONDS:
+            last["read"] = now
+            text = Path(bound_file).read_text().strip()
+            last["bound"] = max(cheap, int(text) if text else 1)
+        return last["bound"]
+
+    left = None if time_limit is None else time_limit - (time.perf_counter() - began)
+    routes = fewest_routes(D, deadline, tours=tours, seconds=1e9 if left is None else left,
+                           seed=seed, floor=proven)
+    seconds = time.perf_counter() - began
+    if routes is None:
+        return MilpResult("unknown", seconds=seconds, message="PyVRP found no routes within the deadline")
+    last["read"] = 0.0
+    bound = proven()
+    status = "optimal" if len(routes) <= bound else "feasible"
+    return MilpResult(status, routes=routes, objective=float(len(routes)), bound=float(bound), seconds=seconds,
+                      message=f"PyVRP's routes meet branch-and-price's bound {bound}" if status == "optimal"
+                      else "PyVRP's routes at the time limit")

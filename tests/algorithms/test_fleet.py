@@ -1,0 +1,102 @@
+"""PyVRP's search for the fewest routes (parcover/algorithms/fleet.py) and its race beside
+branch-and-price in ``exact`` (parcover/exact.py, ``_race_robots``)."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+
+import parcover.exact as exact_module
+from milp import setpart
+from milp.core.result import MilpResult
+from milp.core.routes import least_makespan, route_cost, within
+from milp.core.timelimit import TimeLimit, stop_requested
+from parcover import generate
+from parcover.algorithms.fleet import fewest_routes, race_entrant
+from parcover.problem import Problem
+from parcover.result import Status
+
+
+def _covers(routes: list[list[int]], n: int) -> bool:
+    return sorted(k for route in routes for k in route) == list(range(1, n + 1))
+
+
+@pytest.mark.parametrize("tours", [False, True])
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_the_fewest_routes_match_set_partitioning_on_small_instances(seed, tours):
+    """On 9 KPOIs, 1.2 x the least makespan, PyVRP's count is setpart's proven optimum
+    (an independent exact method), and every route meets the deadline in floats."""
+    D = generate.random_points(9, seed).distances
+    deadline = 1.2 * least_makespan(D, tours=tours)
+    routes = fewest_routes(D, deadline, tours=tours, seconds=2.0, seed=seed)
+    optimum = setpart.min_robots(D, deadline, tours=tours)
+    assert optimum.status == "optimal"
+    assert routes is not None and _covers(routes, 9)
+    assert all(within(route_cost(D, route, tours=tours), deadline) for route in routes)
+    assert len(routes) == optimum.objective
+
+
+def test_a_route_exactly_as_long_as_the_deadline_is_kept():
+    """KPOIs on a line at 0.1, 0.3 and 0.7 from the start: one path of length 0.7 (as
+    0.1 + 0.2 + 0.4 in floats) at the deadline 0.7 = c_max. Scaled lengths rounded up
+    must not push it over the deadline (the module docstring's argument)."""
+    xs = np.array([0.0, 0.1, 0.3, 0.7])
+    D = np.abs(xs[:, None] - xs[None, :])
+    routes = fewest_routes(D, 0.7, tours=False, seconds=1.0)
+    assert routes == [[1, 2, 3]]
+
+
+def test_the_entrant_stops_at_the_bound_it_is_handed(tmp_path):
+    """With branch-and-price's bound in the file, the entrant answers optimal as soon as
+    its routes meet it, long before its time limit; without one (empty file) it uses the
+    spanning-tree / clique bound, and answers feasible at its limit when that is lower."""
+    D = generate.random_points(25, 4).distances
+    deadline = 1.2 * least_makespan(D, tours=True)
+    optimum = len(fewest_routes(D, deadline, tours=True, seconds=3.0, seed=1))
+    bound_file = tmp_path / "bound"
+    bound_file.write_text(str(optimum))
+    began = time.perf_counter()
+    answer = race_entrant(D, deadline, tours=True, bound_file=str(bound_file), seed=1, time_limit=30.0)
+    assert time.perf_counter() - began < 10
+    assert answer.status == "optimal" and answer.objective == answer.bound == optimum
+    assert _covers(answer.routes, 25)
+    bound_file.write_text("")
+    unproven = race_entrant(D, deadline, tours=True, bound_file=str(bound_file), seed=1, time_limit=1.0)
+    assert unproven.status in ("feasible", "optimal") and unproven.bound >= 1
+    assert unproven.status == "optimal" or unproven.bound < unproven.objective
+
+
+def _root_then_wait(D, deadline, *, tours, time_limit, warm_start, improve):
+    """A stand-in for branch-and-price whose root proves 2 routes and hands that bound
+    over, then waits for the stop (as the real one reads it at its clock checks)."""
+    improve(2, 0.0)
+    clock = TimeLimit(time_limit)
+    while not clock.expired() and not stop_requested():
+        time.sleep(0.02)
+    return MilpResult("feasible", warm_start, float(len(warm_start)), 2.0, None, 0, 0.0,
+                      "stopped" if stop_requested() else "time limit")
+
+
+def test_exact_takes_pyvrps_routes_when_they_meet_branch_and_prices_bound(monkeypatch):
+    """``exact`` for the fewest robots above ROOT_FIRST_MAX KPOIs: branch-and-price (here
+    a stand-in that proves 2 routes at its root) hands its bound to PyVRP, whose routes
+    meeting it end the race early: optimal, proven by branch-and-price's bound, routes
+    verified. Two tours cover these 35 KPOIs within 2.5 x the least makespan."""
+    from milp import branchprice, race
+
+    if race.cores() < 2:
+        pytest.skip("the race needs two cores")
+    monkeypatch.setattr(branchprice, "min_robots", _root_then_wait)
+    instance = generate.random_points(35, 5)
+    problem = Problem("tours", deadline=2.5 * least_makespan(instance.distances, tours=True))
+    start = [[k] for k in range(1, 36)]
+    began = time.perf_counter()
+    solution = exact_module.exact(instance, problem, time_limit=60.0, warm_start=start)
+    assert time.perf_counter() - began < 30
+    assert solution.status == Status.OPTIMAL and len(solution.routes) == 2 and solution.bound == 2
+    assert solution.info["model"] == "branchprice" and "PyVRP" in solution.info["message"]
+    D = instance.distances
+    assert _covers(solution.routes, 35)
+    assert all(within(route_cost(D, route, tours=True), problem.deadline) for route in solution.routes)
