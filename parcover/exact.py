@@ -266,7 +266,8 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
         if answer.objective <= solution.bound:
             solution.status = Status.OPTIMAL
     solution.info["model"] = "branchprice"
-    solution.info["message"] = "; ".join(f"{n}: {a.message}" for n, a in answers.items())
+    if len(answers) > 1:
+        solution.info["message"] = "; ".join(f"{n}: {a.message}" for n, a in answers.items())
     if name != "branchprice":
         solution.info["message"] = f"routes by PyVRP ({solution.info['message']})"
     return solution
