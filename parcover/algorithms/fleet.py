@@ -3,10 +3,11 @@
 PyVRP (Wouda, Lan and Kool 2024) minimises fixed vehicle costs plus distance; with one
 vehicle type whose fixed cost exceeds any total length and whose ``max_distance`` is the
 deadline, its search minimises the routes first (the paper's Problem 2, the fewest robots
-within ``c_p``) and the total length second. ``exact`` asks it for routes meeting the
-bound its root proved (:func:`parcover.exact.balanced_search`): at 100 KPOIs in rooms and
-on floor plans it finds one route fewer than ``best`` in the same time on some of the
-building-scale questions (``milp/README.md``).
+within ``c_p``) and the total length second. ``exact`` runs it beside branch-and-price,
+which hands it the bound its root proves (:func:`race_entrant`,
+:func:`parcover.exact._race_robots`): at 100 KPOIs in rooms and on floor plans it finds
+one route fewer than ``best`` in the same time on some of the building-scale questions
+(``milp/README.md``).
 
 Integer lengths: PyVRP takes integer distances, so lengths are scaled by ``s`` and rounded
 *up*, and the deadline becomes ``floor(U s) + n + 1``. Each of a route's at most ``n + 1``
@@ -117,9 +118,9 @@ def race_entrant(D: np.ndarray, deadline: float, *, tours: bool, bound_file: str
     seconds = time.perf_counter() - began
     if routes is None:
         return MilpResult("unknown", seconds=seconds, message="PyVRP found no routes within the deadline")
-    last["read"] = 0.0
+    last["read"] = 0.0  # the file once more: the root may have ended since the last read
     bound = proven()
     status = "optimal" if len(routes) <= bound else "feasible"
     return MilpResult(status, routes=routes, objective=float(len(routes)), bound=float(bound), seconds=seconds,
-                      message=f"PyVRP's routes meet branch-and-price's bound {bound}" if status == "optimal"
+                      message=f"PyVRP's routes meet the proven bound {bound}" if status == "optimal"
                       else "PyVRP's routes at the time limit")
