@@ -207,16 +207,10 @@ def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, 
                              {name: f"milp.{name}:min_makespan" for name in RACE_MODELS[1:]},
                              (instance.distances, problem.robots), {"tours": problem.tours, "warm_start": start},
                              time_limit.remaining(), others_after=BRANCHPRICE_FIRST)
-    answered = {n: a for n, a in answers.items() if a.objective is not None}
-    if not answered:
-        return Solution(routes=start or [], info={"model": RACE_MODELS[0], "message": "; ".join(
-            f"{n}: {a.message}" for n, a in answers.items()) or "no answer"})
-    name, answer = min(answered.items(), key=lambda item: (item[1].status not in ("optimal", "infeasible"),
-                                                           item[1].objective))
-    solution = _solution(answer)
-    bounds = [a.bound for a in answers.values() if a.bound is not None]
-    if solution.status is None and bounds:
-        solution.bound = max(bounds)
+    name, solution = _race_answer(answers, start, RACE_MODELS[0],
+                                  lambda a: (a.status not in ("optimal", "infeasible"), a.objective))
+    if name is None:
+        return solution
     solution.info["model"] = name
     if len(answers) > 1 or solution.status is None:
         solution.info["message"] = "; ".join(f"{n}: {a.message}" for n, a in answers.items())
@@ -254,23 +248,34 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
              "improve": hand_over},
             time_limit.remaining(), others_after=BRANCHPRICE_FIRST,
             others_kwargs={"tours": problem.tours, "bound_file": str(bound_file), "seed": seed})
-    answered = {n: a for n, a in answers.items() if a.objective is not None}
-    if not answered:
-        return Solution(routes=start or [], info={"model": "branchprice", "message": "; ".join(
-            f"{n}: {a.message}" for n, a in answers.items()) or "no answer"})
-    name, answer = min(answered.items(), key=lambda item: (item[1].objective, item[1].status != "optimal"))
-    bounds = [a.bound for a in answers.values() if a.bound is not None]
-    solution = _solution(answer)
-    if bounds:
-        solution.bound = max(bounds)
-        if answer.objective <= solution.bound:
-            solution.status = Status.OPTIMAL
+    name, solution = _race_answer(answers, start, "branchprice", lambda a: (a.objective, a.status != "optimal"))
+    if name is None:
+        return solution
+    if solution.bound is not None and len(solution.routes) <= solution.bound:
+        solution.status = Status.OPTIMAL
     solution.info["model"] = "branchprice"
     if len(answers) > 1:
         solution.info["message"] = "; ".join(f"{n}: {a.message}" for n, a in answers.items())
     if name != "branchprice":
         solution.info["message"] = f"routes by PyVRP ({solution.info['message']})"
     return solution
+
+
+def _race_answer(answers: dict[str, Any], start: list[list[int]] | None, model: str,
+                 rank: Callable[[Any], Any]) -> tuple[str | None, Solution]:
+    """The race's answer with routes that ``rank`` puts first, and its entrant's name; an
+    unproven one gets the largest bound any entrant certified. ``(None, start's routes)``,
+    named ``model``, when no entrant answered with routes."""
+    answered = {n: a for n, a in answers.items() if a.objective is not None}
+    if not answered:
+        return None, Solution(routes=start or [], info={"model": model, "message": "; ".join(
+            f"{n}: {a.message}" for n, a in answers.items()) or "no answer"})
+    name, answer = min(answered.items(), key=lambda item: rank(item[1]))
+    solution = _solution(answer)
+    bounds = [a.bound for a in answers.values() if a.bound is not None]
+    if solution.status is None and bounds:
+        solution.bound = max(bounds)
+    return name, solution
 
 
 def _noting_uncompiled(solution: Solution) -> Solution:
