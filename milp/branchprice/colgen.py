@@ -453,7 +453,8 @@ def makespan_bound(
         raise ValueError("k must be at least 1")
     D = check_distance_matrix(D)
     merged = merge_zero_distances(D).D
-    floor = max(least_makespan(D, tours=tours), tree_lower_bound(merged, k, tours=tours), lower)
+    floor = max(least_makespan(D, tours=tours), lower,
+                tree_lower_bound(merged, k, tours=tours, time_limit=time_limit.remaining()))
     info = BoundInfo(floor, floor)
     ready = _setup(merged, max(upper, floor), tours=tours)
     if ready is None or upper <= floor:

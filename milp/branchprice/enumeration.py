@@ -49,7 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from milp.core.jit import njit
+from milp.core.jit import compiled_layout, njit
 from milp.branchprice.ngroute import BUDGET_ROUND, WORD, completion_table, grid_step, enlarged
 
 __all__ = ["Family", "routes_within_gap", "KERNELS"]
@@ -121,6 +121,8 @@ def routes_within_gap(
     Family or None
         The sets, or None when the listing gave up.
     """
+    D, back, prize = (compiled_layout(a, np.float64) for a in (D, back, prize))
+    allowed, can_end = compiled_layout(allowed, np.bool_), compiled_layout(can_end, np.bool_)
     m1 = len(D)
     words = (m1 + WORD - 1) // WORD
     grid = grid_step(budget, float(D[~np.eye(m1, dtype=bool)].min()) if m1 > 1 else 1.0)

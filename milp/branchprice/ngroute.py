@@ -105,7 +105,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import objmode
 
-from milp.core.jit import njit
+from milp.core.jit import compiled_layout, njit
 from milp.core.timelimit import stop_requested
 
 __all__ = ["Pricing", "PricingResult", "cut_coefficients", "ng_neighbourhoods", "NG_SIZE", "MAX_GRID", "MAX_CUTS",
@@ -196,7 +196,7 @@ class Pricing:
     """
 
     def __init__(self, D: np.ndarray, *, tours: bool, ng_size: int = NG_SIZE) -> None:
-        self.D = np.ascontiguousarray(D, dtype=np.float64)
+        self.D = compiled_layout(D, np.float64)
         self.m = len(D) - 1
         self.back = self.D[:, 0].copy() if tours else np.zeros(self.m + 1)
         self.neighbourhoods = ng_neighbourhoods(self.D, ng_size)
@@ -253,6 +253,8 @@ class Pricing:
             ``(MAX_CUTS,)`` non-negative: a route loses ``penalties[t]`` of prize each time
             :func:`cut_coefficients` counts a pair for cut ``t`` (minus the cut's dual).
         """
+        prize, allowed, can_end = (compiled_layout(prize, np.float64), compiled_layout(allowed, np.bool_),
+                                   compiled_layout(can_end, np.bool_))
         if cut_bits is None:
             cut_bits, cut_memory = np.zeros(self.m + 1, dtype=np.uint64), np.zeros(self.m + 1, dtype=np.uint64)
             penalties = np.zeros(MAX_CUTS)

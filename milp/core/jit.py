@@ -23,9 +23,10 @@ from collections.abc import Callable, Iterable
 from typing import Any
 
 import numba
+import numpy as np
 from numba.misc.appdirs import AppDirs
 
-__all__ = ["njit", "CACHE_FOLDER", "writable_folder", "numba_folders", "fallback_folder"]
+__all__ = ["njit", "compiled_layout", "CACHE_FOLDER", "writable_folder", "numba_folders", "fallback_folder"]
 
 
 def numba_folders() -> list[str]:
@@ -76,3 +77,13 @@ def njit(*args: Any, **options: Any) -> Callable[..., Any]:
     if CACHE_FOLDER is None:
         options["cache"] = False
     return numba.njit(*args, **options)
+
+
+def compiled_layout(array: Any, dtype: Any) -> np.ndarray:
+    """``array`` as the one kind of array the compiled functions take: C-contiguous,
+    writable, of ``dtype``. numba compiles (and caches) a separate version of a function
+    for each layout and for read-only arrays (an ``Instance``'s distances are read-only),
+    so arguments of another kind would compile again inside a solve's time limit, after
+    :mod:`milp.branchprice.compiling` found the function ready. Copies only when needed."""
+    array = np.ascontiguousarray(array, dtype=dtype)
+    return array if array.flags.writeable else array.copy()

@@ -9,6 +9,7 @@ import sys
 import time
 
 import numba
+import numpy as np
 import pytest
 from numba.core.dispatcher import Dispatcher
 
@@ -106,3 +107,26 @@ def test_a_second_process_loads_the_compiled_pricing_from_the_cache(tmp_path):
 
     assert "compiling" not in second.stderr and answer(second) == answer(first)
     assert seconds < 10, seconds
+
+
+def test_read_only_and_strided_arguments_reuse_the_compiled_functions():
+    """An Instance's distances are read-only and a node's end column is a strided view;
+    numba would compile a second version of each function for them, inside a solve's
+    time limit and after ``ready_within`` found the functions ready."""
+    from parcover.generate import random_points
+
+    shared = random_points(10, 1).distances
+    assert not shared.flags.writeable
+    m1 = len(shared)
+    prize = np.concatenate(([0.0], np.full(m1 - 1, 0.3)))
+    budget = 2 * float(shared[0].max())
+
+    def run(D: np.ndarray, allowed: np.ndarray, can_end: np.ndarray) -> None:
+        ngroute.Pricing(D, tours=True, ng_size=4).price(prize, budget, allowed=allowed, can_end=can_end, exact=True)
+        enumeration.routes_within_gap(D, D[:, 0], prize, budget, 0.5, allowed, can_end, max_states=1000)
+
+    allowed = np.ones((m1, m1), dtype=bool)
+    run(np.array(shared), allowed, np.ones(m1, dtype=bool))
+    before = {function: set(function.signatures) for function in compiling.jitted()}
+    run(shared, np.asfortranarray(allowed), allowed[:, 0])
+    assert {function: set(function.signatures) for function in compiling.jitted()} == before
