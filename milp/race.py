@@ -40,7 +40,7 @@ from milp.core.orphans import exit_with_parent
 from milp.core.result import MilpResult
 from milp.core.timelimit import stopping
 
-__all__ = ["race", "race_here", "Entrant", "cores", "START_SECONDS"]
+__all__ = ["race", "race_here", "Entrant", "cores", "share_cores", "START_SECONDS"]
 
 #: Seconds kept back from an entrant's time limit for starting its interpreter (imports:
 #: 0.5-0.8 s measured) and sending its answer back.
@@ -52,8 +52,22 @@ GRACE_SECONDS = 1.0
 
 
 def cores() -> int:
-    """Cores this process may run on."""
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    """Cores this process may run on: its CPU affinity, divided among the sibling
+    processes that share it (:func:`share_cores`), at least 1."""
+    available = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return max(1, available // _sharing)
+
+
+#: Processes sharing this process's cores (:func:`share_cores`).
+_sharing = 1
+
+
+def share_cores(processes: int) -> None:
+    """Count this process as one of ``processes`` that share its cores (a pool's workers,
+    each solving its own question): :func:`cores` divides them, so that the workers do not
+    each start a race on every core."""
+    global _sharing
+    _sharing = max(1, processes)
 
 
 class Entrant:

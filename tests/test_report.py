@@ -438,3 +438,14 @@ def test_the_package_keeps_the_names_of_the_module_it_was():
 
     assert Question is report.GridQuestion  # the old name of the grid's question
     assert set(report.__all__) <= set(dir(report))
+
+
+def test_the_pools_workers_share_the_cores_so_none_races_on_all_of_them():
+    import concurrent.futures
+
+    from milp import race
+    from parcover.report.run import _start_worker
+
+    with concurrent.futures.ProcessPoolExecutor(2, initializer=_start_worker, initargs=(None, 2)) as pool:
+        seen = pool.submit(race.cores).result()
+    assert seen == max(1, race.cores() // 2)

@@ -351,13 +351,10 @@ def _run(tasks: list[_Task], workers: int, scheduler: str | None) -> Iterator[tu
         for task in tasks:
             yield from ((1, rows) for rows in _unit_rows(task))
         return
-    from milp.core.orphans import exit_with_parent
-
-    # Workers end with this process, whatever ends it (SIGKILL included): no orphans.
     context = multiprocessing.get_context()
     parent = None if context.get_start_method() == "forkserver" else os.getpid()
     pool = concurrent.futures.ProcessPoolExecutor(
-        max_workers=workers, mp_context=context, initializer=exit_with_parent, initargs=(parent,)
+        max_workers=workers, mp_context=context, initializer=_start_worker, initargs=(parent, workers)
     )
     finished = False
     try:
@@ -369,6 +366,17 @@ def _run(tasks: list[_Task], workers: int, scheduler: str | None) -> Iterator[tu
         if not finished:  # an error, an interrupt, or the caller stopped early: the rest is abandoned
             _stop_workers(pool)
         pool.shutdown(wait=finished, cancel_futures=True)
+
+
+def _start_worker(parent: int | None, workers: int) -> None:
+    """A pool worker ends with this process, whatever ends it (SIGKILL included: no
+    orphans), and counts as one of ``workers`` sharing the cores (an exact solve races
+    its methods only on cores of its own, :func:`milp.race.share_cores`)."""
+    from milp.core.orphans import exit_with_parent
+    from milp.race import share_cores
+
+    exit_with_parent(parent)
+    share_cores(workers)
 
 
 def _stop_workers(pool: concurrent.futures.ProcessPoolExecutor) -> None:

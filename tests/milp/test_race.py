@@ -106,3 +106,12 @@ def test_the_stop_is_per_thread():
         other.start()
         other.join()
     assert seen == [False] and not stop_requested()
+
+
+def test_processes_sharing_the_cores_each_count_their_share(monkeypatch):
+    all_cores = race.cores()
+    monkeypatch.setattr(race, "_sharing", 1)
+    race.share_cores(2)
+    assert race.cores() == max(1, all_cores // 2)
+    race.share_cores(all_cores + 1)
+    assert race.cores() == 1
