@@ -20,7 +20,8 @@ __all__ = ["spanning_tree_length", "held_karp_makespan_bound", "makespan_lower_b
 #: The Held-Karp bound joins :func:`makespan_lower_bound` from this many KPOIs (below,
 #: set partitioning proves optima within a second and the bound's 15-30 ms would be most
 #: of a solve) up to this many (each subgradient step is a spanning tree, O(n^2): about
-#: 0.2 s in all for 150 KPOIs, 0.3 s for 200) ...
+#: 0.6-0.75 s in all for 200 KPOIs, 3 paths; :data:`HELD_KARP_SHARE` keeps it to its part of a
+#: time limit) ...
 HELD_KARP_KPOIS = (21, 200)
 #: ... with at most this many subgradient steps; the step length is halved after this
 #: many steps without a better bound, starting from this factor, and aims at this much
