@@ -277,7 +277,7 @@ class Pricing:
                 arcs, Prizes(prize, cut_bits, cut_memory, penalties), Budget(budget, table, delta, G),
                 threshold, exact, ends_at)
             total += work
-            order = np.argsort(-ends[:, 1], kind="stable")[:max_routes] if len(ends) else []
+            order = most_valuable(ends[:, 1], max_routes)
             routes = [_trace(int(ends[r, 0]), parents, nodes) for r in order]
             if not exact:
                 return PricingResult(float(best), routes, False, int(total), walk)
@@ -345,6 +345,18 @@ def grid_step(budget: float, shortest: float) -> tuple[float, int] | None:
     if G > MAX_GRID:
         return None
     return delta, G
+
+
+def most_valuable(values: np.ndarray, count: int) -> np.ndarray:
+    """Indices of the ``count`` largest ``values``, largest first, ties in index order
+    (as a stable sort of all of them would give). Selects before sorting: a heuristic
+    labelling stopped by the clock can hold millions of route ends, and sorting 3.7 million
+    took 0.6 s after the time limit."""
+    if len(values) <= count:
+        return np.argsort(-values, kind="stable")
+    kth = np.partition(values, len(values) - count)[len(values) - count]
+    chosen = np.flatnonzero(values >= kth)  # in index order
+    return chosen[np.argsort(-values[chosen], kind="stable")][:count]
 
 
 def _trace(label: int, parents: np.ndarray, nodes: np.ndarray) -> np.ndarray:

@@ -336,7 +336,11 @@ class BranchAndPrice:
         """Column generation over the master with the current cuts (``known``: a bound
         already certified at this node, with its duals). It stops when the certified
         bound rounds up to the LP value's integer or, with ``converge``, when it reaches
-        the LP value (the duals then price out exactly)."""
+        the LP value (the duals then price out exactly). Past the time limit it solves no
+        master LP: it returns ``known`` (on entry) or the last master's outcome (after a
+        pricing), so that a call ends at its limit and not one master solve later."""
+        if self.out_of_time():
+            return LpOutcome(known.bound, known.value, columns, known.x, Why.TIME_LIMIT, None, known.duals)
         h = self._master(columns)
         bound, center, certificate = known.bound, None, known.duals
         if certificate is not None:  # cuts added since: their duals 0 certify the same bound
@@ -383,6 +387,8 @@ class BranchAndPrice:
                 found = self._append(h, columns, useful, budget, node)
                 if found:
                     break
+            if found and self.out_of_time():
+                return outcome(Why.TIME_LIMIT)
             if not found:
                 # the true duals priced out exactly: bound = the dual value = value, unless
                 # the clock stopped the exact pricing

@@ -14,6 +14,8 @@ import time
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from milp.branchprice import ngroute
 from milp.branchprice.ngroute import MAX_CUTS, Pricing
@@ -115,6 +117,14 @@ def test_ng_neighbourhoods_hold_each_kpoi_and_its_nearest():
     x = np.array([0.0, 1.0, 2.0, 4.0, 8.0])
     masks = ngroute.ng_neighbourhoods(np.abs(x[:, None] - x[None]), 2)
     assert masks[:, 0].tolist() == [0, bits(1, 2), bits(1, 2), bits(2, 3), bits(3, 4)]
+
+
+@given(st.lists(st.integers(0, 5), max_size=40), st.integers(1, 12))
+def test_most_valuable_is_the_head_of_a_stable_sort(values, count):
+    # few distinct values: ties at the cut-off are the common case
+    values = np.array(values, dtype=np.float64)
+    expected = np.argsort(-values, kind="stable")[:count]
+    assert np.array_equal(ngroute.most_valuable(values, count), expected)
 
 
 def test_forbid_remembers_the_kpoi_of_a_forbidden_cycle():
