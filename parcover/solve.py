@@ -66,7 +66,7 @@ def register_method(info: MethodInfo) -> None:
 
 def solve(
     instance: Instance,
-    routes: RoutesKind = "paths",
+    routes: RoutesKind | Problem = "paths",
     robots: int | None = None,
     deadline: float | None = None,
     method: str = "exact",
@@ -82,7 +82,9 @@ def solve(
     instance
         The instance.
     routes
-        ``"paths"`` or ``"tours"``.
+        ``"paths"`` or ``"tours"``; or the whole question as a :class:`Problem`
+        (``solve(instance, Problem("tours", robots=3))``), then without ``robots`` and
+        ``deadline``.
     robots
         At most this many robots: minimise the makespan.
     deadline
@@ -125,7 +127,13 @@ def solve(
         raise InputError(
             f"Expected an Instance, got {type(instance).__name__} {instance!r}; read a file with pc.load(path)."
         )
-    problem = Problem(routes, robots, deadline)
+    if isinstance(routes, Problem):
+        if robots is not None or deadline is not None:
+            raise InputError("Give the question either as a Problem or as routes, robots and deadline, "
+                             "not both.")
+        problem = routes
+    else:
+        problem = Problem(routes, robots, deadline)
     info = method_with_options(method)
     check_memory(SOLVE_BYTES_PER_ENTRY * (instance.n + 1) ** 2, f"Solving {instance.n} KPOIs with {method}")
     unknown = sorted(set(options) - set(info.options))

@@ -66,6 +66,14 @@ def test_problem_validation():
     assert Problem("tours").objective == "robots" and Problem(robots=3).objective == "makespan"
 
 
+def test_a_problem_is_the_whole_question(fig1_grid):
+    asked = solve(fig1_grid, Problem("tours", robots=2), method="best")
+    assert (asked.routes_kind, asked.robots_limit) == ("tours", 2)
+    assert asked.makespan == solve(fig1_grid, "tours", robots=2, method="best").makespan
+    with pytest.raises(InputError, match="not both"):
+        solve(fig1_grid, Problem("tours"), robots=2)
+
+
 def test_unknown_option_is_refused(fig1_grid):
     with pytest.raises(InputError, match="takes no option 'colour'"):
         solve(fig1_grid, method="trivial", colour="red")
