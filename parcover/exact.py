@@ -17,7 +17,8 @@ independently. Six methods:
   :data:`RACE_MAX_KPOIS` KPOIs,
   ``branchprice`` in this process for the whole time, against ``branchcut`` in another
   from :data:`BRANCHPRICE_FIRST` seconds on, on two cores (:func:`_race_makespan`; the
-  first proof stops the other; one core: ``branchprice`` alone); for the fewest robots
+  first proof stops the other; one core: ``branchprice`` alone), and above those sizes
+  against ``best``'s local search in the same way; for the fewest robots
   above :data:`ROOT_FIRST_MAX` KPOIs, ``branchprice`` here against PyVRP's search for
   fewer routes in another process, which stops when its routes meet the bound
   ``branchprice``'s root proved (:func:`_race_robots`; one core: ``best`` looks for
@@ -172,8 +173,7 @@ def exact(
                     else compact(instance, problem, time_limit=time_limit, seed=seed, warm_start=warm_start))
         return _noting_uncompiled(fallback)
     if instance.n > model.MAX_KPOIS:
-        if (problem.objective == "makespan" and problem.robots <= RACE_ROUTES and instance.n <= RACE_MAX_KPOIS
-                and race.cores() >= 2):
+        if problem.objective == "makespan" and race.cores() >= 2:
             return _race_makespan(instance, problem, time_limit, seed, warm_start)
         if problem.objective == "robots" and instance.n > ROOT_FIRST_MAX and race.cores() >= 2:
             return _race_robots(instance, problem, time_limit, seed, warm_start)
@@ -192,21 +192,30 @@ def exact(
 
 def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, seed: int,
                    warm_start: list[list[int]] | None) -> Solution:
-    """The least makespan with few robots: :func:`milp.branchprice.min_makespan` in this
-    process for the whole time limit, and, unless it has proved the answer within
-    :data:`BRANCHPRICE_FIRST` seconds, ``branchcut`` in another process for the time left
-    (:func:`milp.race.race_here`); the first proof stops the other. ``info["model"]``
-    names the method whose routes are returned (the one that proved them, when proven);
-    the bound is the larger of every method's certified bound."""
+    """The least makespan: :func:`milp.branchprice.min_makespan` in this process for the
+    whole time limit, and, unless it has proved the answer within
+    :data:`BRANCHPRICE_FIRST` seconds, a rival in another process for the time left
+    (:func:`milp.race.race_here`): ``branchcut`` for at most :data:`RACE_ROUTES` robots
+    and :data:`RACE_MAX_KPOIS` KPOIs, else ``best``'s local search from the same warm
+    start (:func:`parcover.algorithms.local_search.race_entrant`), which branch-and-price's
+    tree seldom improves on; the first proof stops the other. ``info["model"]`` names the
+    method whose routes are returned (the one that proved them, when proven); the bound is
+    the larger of every method's certified bound (:func:`parcover.solve` calls routes that
+    meet it optimal)."""
     from milp import branchprice, race
 
     start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
+    kwargs = {"tours": problem.tours, "warm_start": start}
+    if problem.robots <= RACE_ROUTES and instance.n <= RACE_MAX_KPOIS:
+        rival, entrant, rival_kwargs = RACE_MODELS[1], f"milp.{RACE_MODELS[1]}:min_makespan", kwargs
+    else:
+        rival, entrant = "best", "parcover.algorithms.local_search:race_entrant"
+        rival_kwargs = {**kwargs, "seed": seed + 1}
     log.info("exact: branch-and-price, and %s in another process after %g s unless proven by then",
-             " and ".join(RACE_MODELS[1:]), BRANCHPRICE_FIRST)
-    answers = race.race_here(RACE_MODELS[0], branchprice.min_makespan,
-                             {name: f"milp.{name}:min_makespan" for name in RACE_MODELS[1:]},
-                             (instance.distances, problem.robots), {"tours": problem.tours, "warm_start": start},
-                             time_limit.remaining(), others_after=BRANCHPRICE_FIRST)
+             rival, BRANCHPRICE_FIRST)
+    answers = race.race_here(RACE_MODELS[0], branchprice.min_makespan, {rival: entrant},
+                             (instance.distances, problem.robots), kwargs,
+                             time_limit.remaining(), others_after=BRANCHPRICE_FIRST, others_kwargs=rival_kwargs)
     name, solution = _race_answer(answers, start, RACE_MODELS[0],
                                   lambda a: (a.status not in ("optimal", "infeasible"), a.objective))
     if name is None:
@@ -214,6 +223,9 @@ def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, 
     solution.info["model"] = name
     if len(answers) > 1 or solution.status is None:
         solution.info["message"] = "; ".join(f"{n}: {a.message}" for n, a in answers.items())
+    if name == "best":  # its own proof is the trivial bound; else the bound is branch-and-price's
+        solution.info["model"] = "bounds" if solution.status == Status.OPTIMAL else RACE_MODELS[0]
+        solution.info["message"] = f"routes by best's local search ({solution.info['message']})"
     return solution
 
 
@@ -575,7 +587,7 @@ def _solution(answer: Any) -> Solution:
 METHODS = (
     MethodInfo("exact", exact, f"proven optimum: setpart up to {SETPART_FIRST['makespan']} KPOIs, branchprice then "
                f"setpart to {SETPART_MAX_KPOIS}, branchprice to {BRANCHPRICE_MAX_KPOIS} (least makespan with at most "
-               f"{RACE_ROUTES} robots to {RACE_MAX_KPOIS} KPOIs: raced against branchcut; fewest robots above {ROOT_FIRST_MAX}: "
+               f"{RACE_ROUTES} robots to {RACE_MAX_KPOIS} KPOIs: raced against branchcut, else against best; fewest robots above {ROOT_FIRST_MAX}: "
                "PyVRP looks for routes meeting its bound beside it), compact above (default)",
                ("warm_start", "export_model")),
     MethodInfo("compact", compact, "proven optimum: compact arc-flow MILP in HiGHS", ("warm_start", "export_model")),

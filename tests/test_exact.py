@@ -7,6 +7,7 @@ import time
 import highspy
 import pytest
 
+from milp.core.routes import makespan
 from parcover import InputError, Status, frontier, generate, solve
 
 CASES = [generate.random_points(7, 11), generate.random_graph(6, 5, virtual=8)]
@@ -157,6 +158,36 @@ def test_exact_races_within_its_time_limit():
     result = solve(instance, "tours", robots=2, time_limit=6)
     assert time.perf_counter() - started < 6 * 1.1
     assert result.status is Status.FEASIBLE and result.bound < result.value
+
+
+def test_exact_races_best_where_branch_and_cut_does_not_reach(monkeypatch):
+    """5 tours on 25 KPOIs (more robots than branch-and-cut races for): the rival is
+    ``best``'s local search in another process. With a branch-and-price here that proves
+    nothing, the answer is the rival's: verified routes no worse than the warm start, the
+    trivial bound, the message saying whose routes they are."""
+    from milp import branchprice, race
+
+    if race.cores() < 2:
+        pytest.skip("the race needs two cores")
+    asked = []
+
+    def nothing_proven(D, k, *, tours, time_limit, warm_start=None):
+        from milp.core.result import MilpResult
+        from milp.core.timelimit import TimeLimit
+
+        asked.append(warm_start)
+        clock = TimeLimit(time_limit)
+        while not clock.expired():
+            time.sleep(0.02)
+        return MilpResult("unknown", [], None, None, None, 0, 0.0, "time limit")
+
+    monkeypatch.setattr(branchprice, "min_makespan", nothing_proven)
+    instance = generate.random_points(25, 8)
+    result = solve(instance, "tours", robots=5, time_limit=8)
+    assert asked and result.routes and "routes by best's local search" in result.info["message"]
+    assert result.model in ("branchprice", "bounds")
+    assert result.value <= makespan(instance.distances, asked[0], tours=True) * (1 + 1e-9)
+    assert 2 * instance.c_max <= result.bound <= result.value
 
 
 def test_branchcut_answers_the_least_makespan_only():

@@ -59,6 +59,10 @@ import random
 import time
 from typing import Any
 
+import numpy as np
+
+from milp.core.result import MilpResult
+from milp.core.routes import makespan, within
 from milp.core.timelimit import TimeLimit, TimeLimitLike
 from parcover.algorithms.moves import Key, Search
 from parcover.algorithms.starts import best_construction, min_max_insertion
@@ -218,6 +222,28 @@ def fewer_robots(
         log.info("best: %d robots meet the deadline (round %d)", len(routes), rounds)
     return routes, rounds
 
+
+
+def race_entrant(D: np.ndarray, k: int, *, tours: bool, warm_start: list[list[int]] | None = None,
+                 seed: int = 0, time_limit: float | None = None) -> MilpResult:
+    """:func:`improve` as an entrant of :func:`milp.race.race_here` beside branch-and-price's
+    least makespan with ``k`` routes on the distance matrix ``D`` (index 0 the start): from
+    ``warm_start`` (branch-and-price's start; else :func:`best_construction`) with its own
+    ``seed``, until the time limit or the trivial lower bound. ``"optimal"`` when its routes
+    meet that bound, else ``"feasible"`` with it; the race keeps the better routes and the
+    larger bound."""
+    began = time.perf_counter()
+    stop = None if time_limit is None else began + time_limit
+    instance, problem = Instance.from_matrix(D), Problem("tours" if tours else "paths", robots=k)
+    bound = lower_bound(instance, problem, seconds=None if time_limit is None else _BOUND_SHARE * time_limit)
+    start = warm_start or best_construction(instance, problem, time_limit=time_limit, seed=seed)[1]
+    routes, _ = improve(instance, problem, start, seed=seed, iterations=None if stop else DEFAULT_ITERATIONS,
+                        stop=stop, target=bound)
+    value = makespan(D, routes, tours=tours)
+    proven = within(value, bound)
+    return MilpResult("optimal" if proven else "feasible", routes=routes, objective=value, bound=bound,
+                      seconds=time.perf_counter() - began,
+                      message="best's routes meet the trivial lower bound" if proven else "best's routes at the time limit")
 
 
 def improve(

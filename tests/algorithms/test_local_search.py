@@ -7,7 +7,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from parcover import generate, solve
-from parcover.algorithms.local_search import best, improve, min_max_insertion
+from parcover.algorithms.local_search import best, improve, min_max_insertion, race_entrant
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.solve import METHODS, available_methods
 from parcover.verify import route_costs
@@ -144,3 +144,31 @@ def test_local_search_keeps_the_names_of_its_split_parts():
     assert local_search.min_max_insertion is starts.min_max_insertion
     assert local_search.best_construction is starts.best_construction
     assert set(local_search.__all__) <= set(dir(local_search)) and local_search.Search is moves.Search
+
+
+@pytest.mark.parametrize("tours", [False, True])
+def test_race_entrant_answers_with_valid_routes_and_the_trivial_bound(tours):
+    """The local search as branch-and-price's rival: every KPOI once in at most k routes,
+    the objective their makespan, the bound the trivial one (not above it), never worse
+    than its warm start."""
+    from milp import bounds
+    from milp.core.routes import makespan
+
+    D = generate.random_points(18, 4).distances
+    start = [list(range(1, 10)), list(range(10, 19))]
+    answer = race_entrant(D, 3, tours=tours, warm_start=start, seed=2, time_limit=1.0)
+    assert answer.status in ("optimal", "feasible") and len(answer.routes) <= 3
+    assert sorted(j for r in answer.routes for j in r) == list(range(1, 19))
+    assert answer.objective == pytest.approx(makespan(D, answer.routes, tours=tours))
+    assert answer.objective <= makespan(D, start, tours=tours) + 1e-9
+    assert answer.bound == bounds.makespan_lower_bound(D, 3, tours=tours, time_limit=0.2)
+    assert answer.bound <= answer.objective * (1 + 1e-9)
+
+
+def test_race_entrant_proves_what_meets_the_trivial_bound():
+    """As many robots as KPOIs: one KPOI a route, the makespan is the farthest KPOI's
+    distance, which is the trivial bound: optimal."""
+    D = generate.random_points(6, 1).distances
+    answer = race_entrant(D, 6, tours=False, seed=0, time_limit=2.0)
+    assert answer.status == "optimal"
+    assert answer.objective == pytest.approx(D[0].max())
