@@ -100,6 +100,19 @@ def test_dominated_on_arrival_needs_the_prize_after_penalties():
     assert not ngroute._dominated_on_arrival(vals, labs, 0, 1.0, parity, np.uint64(0), big)  # none extended
 
 
+def test_heuristic_dominance_drops_a_label_behind_heuristic_scan_labels():
+    """Extended labels each of prize 2 and odd parity 0 (penalty 0.5): none dominates a new
+    label of prize 1.8 without parities (2 - 0.5 < 1.8). With HEURISTIC_SCAN of them it
+    is kept; with one more it is dropped after looking at HEURISTIC_SCAN."""
+    scan = ngroute.HEURISTIC_SCAN
+    big = np.zeros(MAX_CUTS)
+    big[0] = 0.5
+    for extended, dropped in ((scan, False), (scan + 1, True)):
+        parity = np.full(extended, bits(0), np.uint64)
+        vals, labs = np.full(extended, 2.0), np.arange(extended, dtype=np.int64)
+        assert ngroute._dominated_on_arrival(vals, labs, extended, 1.8, parity, np.uint64(0), big) is dropped
+
+
 def test_cut_coefficients_count_visits_with_the_parity_set():
     """Cut 0 on the triple {1, 2, 3} with memory {1, 2, 3, 4}, cut 1 on {1, 2, 5} with
     memory {1, 2, 5}. Route 1, 4, 2, 3: cut 0 parity set at 1, kept at 4, counts at 2
