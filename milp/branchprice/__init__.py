@@ -1,7 +1,9 @@
 """Branch-and-price over ng-routes: fewest routes within a deadline, least makespan with k.
 
-- :mod:`~milp.branchprice.search`: the search (:func:`min_robots`, :func:`min_makespan`): column
-  generation at each node, branching, the makespan as a sequence of fewest-routes decisions.
+- :mod:`~milp.branchprice.search`: the search (:func:`min_robots`): column generation at each
+  node, branching, enumeration.
+- :mod:`~milp.branchprice.makespan`: the least makespan (:func:`min_makespan`) as a sequence of
+  fewest-routes decisions, and its LP-bisection bound.
 - :mod:`~milp.branchprice.tree`: the tree of one fewest-routes decision.
 - :mod:`~milp.branchprice.ngroute`: the pricing, by labelling over ng-routes (numba).
 - :mod:`~milp.branchprice.columns`: the column pool and the branching nodes.
@@ -19,4 +21,5 @@ __all__ = ["min_robots", "min_makespan", "ready_within", "compile_pricing", "MAX
 
 # The search's public names, loaded on first use: importing :mod:`~milp.branchprice.colgen`
 # alone does not load numba's labelling.
-__getattr__ = lazy_getattr(__name__, globals(), dict.fromkeys(__all__, "milp.branchprice.search"))
+__getattr__ = lazy_getattr(__name__, globals(), {**dict.fromkeys(__all__, "milp.branchprice.search"),
+                                                 "min_makespan": "milp.branchprice.makespan"})

@@ -15,14 +15,14 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from milp_helpers import TOL, check_solution, euclidean, graph_metric
 
 from milp import setpart
+from milp.branchprice import colgen, ngroute, tree
+from milp.branchprice import makespan as makespan_search
 from milp.branchprice import search as branchprice
-from milp.branchprice import colgen, tree
-from milp.branchprice import ngroute
 from milp.branchprice.ngroute import MAX_CUTS, Pricing
 from milp.core.routes import least_makespan
-from milp_helpers import TOL, check_solution, euclidean, graph_metric
 
 
 def open_arcs(m: int) -> tuple[np.ndarray, np.ndarray]:
@@ -134,7 +134,7 @@ def test_strong_branching_reaches_setparts_optimum(monkeypatch):
     # is not proven in 60 s)
     for n, k in ((16, 4), (20, 5)):
         D = euclidean(n, 1)
-        ours = branchprice.min_makespan(D, k, tours=False, time_limit=60)
+        ours = makespan_search.min_makespan(D, k, tours=False, time_limit=60)
         assert ours.status == "optimal"
         assert ours.objective == pytest.approx(setpart.min_makespan(D, k, tours=False).objective, rel=1e-9)
     assert picked and all(picked)
@@ -159,7 +159,7 @@ def test_integer_master_below_the_root_keeps_the_optimum(monkeypatch):
     monkeypatch.setattr(branchprice, "ENUMERATION_ROUTES", (0, -1))  # the tree, not enumeration
     D = euclidean(16, 1)  # branches (test_strong_branching_reaches_setparts_optimum)
     for tours in (False, True):
-        ours = branchprice.min_makespan(D, 4, tours=tours, time_limit=60)
+        ours = makespan_search.min_makespan(D, 4, tours=tours, time_limit=60)
         assert ours.status == "optimal"
         ref = setpart.min_makespan(D, 4, tours=tours)
         assert check_solution(D, ours, tours=tours, k=4) == pytest.approx(ref.objective, rel=TOL)
@@ -186,7 +186,7 @@ def test_agrees_with_setpart(make, n, seed, tours):
     D = make(n, seed)
     least = (2.0 if tours else 1.0) * D[0, 1:].max()
     for k in (2, 4):
-        ours, ref = branchprice.min_makespan(D, k, tours=tours), setpart.min_makespan(D, k, tours=tours)
+        ours, ref = makespan_search.min_makespan(D, k, tours=tours), setpart.min_makespan(D, k, tours=tours)
         assert ours.status == ref.status == "optimal"
         assert check_solution(D, ours, tours=tours, k=k) == pytest.approx(ref.objective, rel=TOL)
     for deadline in (least, 1.3 * least):
@@ -201,7 +201,7 @@ def test_agrees_with_setpart(make, n, seed, tours):
        share=st.floats(1.0, 2.0))
 def test_random_instances_agree_with_setpart(seed, n, k, tours, share):
     D = euclidean(n, seed)
-    ours, ref = branchprice.min_makespan(D, k, tours=tours), setpart.min_makespan(D, k, tours=tours)
+    ours, ref = makespan_search.min_makespan(D, k, tours=tours), setpart.min_makespan(D, k, tours=tours)
     assert ours.status == "optimal"
     assert check_solution(D, ours, tours=tours, k=k) == pytest.approx(ref.objective, rel=TOL)
     deadline = share * ref.objective
@@ -238,7 +238,7 @@ def test_coincident_kpois_and_kpois_at_the_start():
     D = np.linalg.norm(points[:, None] - points[None], axis=2)
     for tours in (False, True):
         for k in (1, 2, 3):
-            ours, ref = branchprice.min_makespan(D, k, tours=tours), setpart.min_makespan(D, k, tours=tours)
+            ours, ref = makespan_search.min_makespan(D, k, tours=tours), setpart.min_makespan(D, k, tours=tours)
             assert ours.status == "optimal"
             assert check_solution(D, ours, tours=tours, k=k) == pytest.approx(ref.objective, abs=TOL)
 
@@ -247,7 +247,7 @@ def test_time_limit_is_held_and_the_answer_is_honest():
     """30 KPOIs, 3 tours, 1 s: whatever the status, the routes are valid and the bound holds."""
     D = euclidean(30, 5)
     began = time.perf_counter()
-    answer = branchprice.min_makespan(D, 3, tours=True, time_limit=1.0)
+    answer = makespan_search.min_makespan(D, 3, tours=True, time_limit=1.0)
     assert time.perf_counter() - began <= 1.1 + 0.5  # 10% plus one pricing round
     check_solution(D, answer, tours=True, k=3)
 
@@ -364,10 +364,10 @@ def test_makespan_bound_takes_the_q_route_bound_when_the_ng_route_bisection_runs
 
     monkeypatch.setattr(branchprice.colgen, "makespan_lower_bound", recording)
     search = branchprice.BranchAndPrice(D, tours=tours, ends_at=None)
-    converged, cut_short = branchprice._makespan_lp_bound(search, k, lower, upper, time.perf_counter() + 60)
+    converged, cut_short = makespan_search._makespan_lp_bound(search, k, lower, upper, time.perf_counter() + 60)
     assert not asked and not cut_short and lower < converged <= optimum * (1 + TOL)
 
-    bisect = branchprice._bisect_lp_bound
+    bisect = makespan_search._bisect_lp_bound
     halves: list[float] = []
 
     def out_of_time_at_first(search, k, low, high):
@@ -376,9 +376,9 @@ def test_makespan_bound_takes_the_q_route_bound_when_the_ng_route_bisection_runs
             search.ends_at = time.perf_counter()
         return bisect(search, k, low, high)
 
-    monkeypatch.setattr(branchprice, "_bisect_lp_bound", out_of_time_at_first)
+    monkeypatch.setattr(makespan_search, "_bisect_lp_bound", out_of_time_at_first)
     search = branchprice.BranchAndPrice(D, tours=tours, ends_at=None)
-    bound, cut_short = branchprice._makespan_lp_bound(search, k, lower, upper, time.perf_counter() + 60)
+    bound, cut_short = makespan_search._makespan_lp_bound(search, k, lower, upper, time.perf_counter() + 60)
     assert asked == [lower] and len(halves) == 2 and halves[1] >= lower and not cut_short
     assert bound == pytest.approx(converged, rel=1e-3) and bound <= optimum * (1 + TOL)
 
@@ -394,7 +394,7 @@ def test_a_makespan_bisection_cut_short_resumes_after_the_decisions(monkeypatch)
     start = [[1, 2, 3, 4], [5, 6, 7, 8], [9, 10, 11, 12]]
     value = float(max(D[[0, *r[:-1]], r].sum() for r in start))
     lower = least_makespan(D, tours=tours)
-    full, _ = branchprice._makespan_lp_bound(branchprice.BranchAndPrice(D, tours=tours, ends_at=None), k,
+    full, _ = makespan_search._makespan_lp_bound(branchprice.BranchAndPrice(D, tours=tours, ends_at=None), k,
                                              lower, value, None)
     stopped: list[float] = []
 
@@ -404,10 +404,10 @@ def test_a_makespan_bisection_cut_short_resumes_after_the_decisions(monkeypatch)
         stopped.append(time.perf_counter())
         return None, None, tree.Ending.UNKNOWN
 
-    monkeypatch.setattr(branchprice, "BISECTION_SECONDS", 1e-6)
+    monkeypatch.setattr(makespan_search, "BISECTION_SECONDS", 1e-6)
     monkeypatch.setattr(branchprice.BranchAndPrice, "fewest_routes", undecided)
     began = time.perf_counter()
-    result = branchprice.min_makespan(D, k, tours=tours, time_limit=4.0, warm_start=start)
+    result = makespan_search.min_makespan(D, k, tours=tours, time_limit=4.0, warm_start=start)
     assert result.status == "feasible" and result.objective == pytest.approx(value)
     assert stopped and stopped[0] - began == pytest.approx(3.0, abs=0.5)  # 4 s less a quarter
     assert len(stopped) == 2 and stopped[1] - began == pytest.approx(4.0, abs=0.5)  # and the rest

@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 
 from milp import setpart
-from milp.branchprice import search as branchprice
 from milp.branchprice import columns
+from milp.branchprice import makespan as makespan_search
+from milp.branchprice import search as branchprice
 from milp.branchprice.enumeration import routes_within_gap
 from milp.core.routes import least_makespan
 
@@ -92,7 +93,7 @@ def _euclidean(n: int, seed: int) -> np.ndarray:
 
 def _least_makespan_as_setpart(D: np.ndarray, k: int, tours: bool):
     """Branch-and-price's least makespan, asserted proven and equal to set partitioning's."""
-    ours = branchprice.min_makespan(D, k, tours=tours, time_limit=60)
+    ours = makespan_search.min_makespan(D, k, tours=tours, time_limit=60)
     theirs = setpart.min_makespan(D, k, tours=tours)
     assert ours.status == theirs.status == "optimal"
     assert ours.objective == pytest.approx(theirs.objective, rel=1e-9)

@@ -12,14 +12,15 @@ import itertools
 
 import numpy as np
 import pytest
+from milp_helpers import check_solution, euclidean, graph_metric
+from test_branchprice import clustered
 
 from milp import setpart
+from milp.branchprice import makespan as makespan_search
 from milp.branchprice import ngroute
 from milp.branchprice import search as branchprice
 from milp.branchprice.ngroute import Pricing
 from milp.core.routes import least_makespan
-from milp_helpers import check_solution, euclidean, graph_metric
-from test_branchprice import clustered
 
 
 def elementary_best(D, prize, budget, tours, allowed, can_end):
@@ -84,7 +85,7 @@ def test_branch_and_price_with_walk_certificates_agrees_with_setpart(make, n, se
         check_solution(D, ours, tours=tours, deadline=deadline)
         assert ours.objective == ref.objective
     for k in (2, 3):
-        ours, ref = branchprice.min_makespan(D, k, tours=tours), setpart.min_makespan(D, k, tours=tours)
+        ours, ref = makespan_search.min_makespan(D, k, tours=tours), setpart.min_makespan(D, k, tours=tours)
         assert ours.status == "optimal"
         assert check_solution(D, ours, tours=tours, k=k) == pytest.approx(ref.objective, rel=1e-6)
     assert sum(search.walk_raised for search in searches) > 0  # the certificates did act
