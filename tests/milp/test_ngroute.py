@@ -153,6 +153,31 @@ def test_forbid_remembers_the_kpoi_of_a_forbidden_cycle():
     assert pricing.remembered[3, 0] == bits(3)
 
 
+def test_a_stopped_exact_pricing_certifies_its_last_complete_labelling(monkeypatch):
+    """The line above, neighbourhoods of size 2 remembered from {i}, prizes 0.6 on KPOIs 1
+    and 2, paths within 3.5, no completion bound (so no walk bound): the first labelling's
+    best is route 1, 2, 1 (length 3, prize 1.8; 1 is forgotten at 2), a forbidden cycle, so
+    a second labelling runs; the clock stops it. The result is not exact, but 1.8 still
+    bounds every elementary route's prize (the best, 1, 2, is 1.2): it is the certificate
+    (``walk``), and the stopped labelling's best is not."""
+    x = np.array([0.0, 1.0, 2.0, 4.0, 8.0])
+    D = np.abs(x[:, None] - x[None])
+    prize = np.array([0.0, 0.6, 0.6, 0.0, 0.0])
+    label, bests = ngroute._label, []
+
+    def second_stopped(*args):
+        best, ends, parents, nodes, work, complete = label(*args)
+        bests.append(best)
+        return best, ends, parents, nodes, work, complete and len(bests) == 1
+
+    monkeypatch.setattr(ngroute, "MAX_GRID", 0)
+    monkeypatch.setattr(ngroute, "_label", second_stopped)
+    result = Pricing(D, tours=False, ng_size=2).price(prize, 3.5, allowed=np.ones((5, 5), bool),
+                                                      can_end=np.ones(5, bool), exact=True)
+    assert bests == pytest.approx([1.8, 1.2])
+    assert not result.exact and result.walk == pytest.approx(1.8)
+
+
 def brute_force(D, prize, budget, tours, allowed, can_end):
     """Every elementary route on allowed arcs within ``budget`` ending where allowed:
     ``{route: prize}``."""
