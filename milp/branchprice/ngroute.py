@@ -58,7 +58,7 @@ best prize found is at least every elementary route's (ng-routes with 2-cycles m
 pruned; measured: fewest tours within 2 c_max, n = 50, one exact pricing 7.9 s -> 2.0 s).
 The same table bounds whole routes: :math:`\max_j \pi_j + g(b_j, j)` over the first KPOIs
 is at least every elementary route's prize (:func:`walk_bound`), which certifies Farley's
-bound after a heuristic call too (:attr:`PricingResult.walk`). The grid needs :math:`d'_{ij} \ge 1` for all arcs (no
+bound after a heuristic call too (:attr:`PricingResult.prize_bound`). The grid needs :math:`d'_{ij} \ge 1` for all arcs (no
 zero-length cycles), i.e. :math:`\delta` at most the smallest distance; when that would
 need more than ``MAX_GRID`` steps, no completion bound is used (still exact, slower).
 
@@ -82,7 +82,7 @@ ng-route (then its prize is at least every elementary route's) or no route beats
 (Righini and Salani 2008, Networks 51; with ng-routes Martinelli, Pecin and Poggi 2014,
 Oper. Res. Letters 42). The :math:`\Pi` grow over the whole search. Each complete
 labelling's best prize bounds every elementary route's, so when the clock stops a later
-one, the last complete one still certifies Farley's bound (:attr:`PricingResult.walk`):
+one, the last complete one still certifies Farley's bound (:attr:`PricingResult.prize_bound`):
 in dense rooms the relaxation takes tens of labellings, the last ones the longest. On fewest tours
 within 1.2 x 2 c_max, n = 50 (four long tours), the proving pricing did 5-14x less work
 (seeds 1 and 3: 0.97 G -> 70 M, 3.3 G -> 0.36 G).
@@ -159,20 +159,20 @@ class PricingResult:
         Whether ``best`` is certified (exact dominance and the label limit not reached).
     work : int
         Labels created, dominance tests made and extension candidates looked at.
-    walk : float
+    prize_bound : float
         An upper bound on the prize (less cut penalties) of every elementary route within
         the budget, certified whatever ``exact`` says, so Farley's bound with it holds after
         a heuristic call, or an exact one the clock stopped, too: the completion table's
-        (:func:`walk_bound`; ``inf`` without a grid), or, when lower, the best prize of a
-        complete exact labelling before the last (the decremental relaxation's labellings
-        each bound every elementary route: module docstring).
+        (:func:`walk_bound`; ``inf`` without a grid), or, when lower, the least best prize
+        of the complete exact labellings (the decremental relaxation's labellings each
+        bound every elementary route: module docstring).
     """
 
     best: float
     routes: list[np.ndarray]
     exact: bool
     work: int
-    walk: float = math.inf
+    prize_bound: float = math.inf
 
 
 def _bits(words: np.ndarray, count: int) -> np.ndarray:
@@ -281,7 +281,7 @@ class Pricing:
             table = completion_table(dd, back, prize, allowed, can_end, G, ends_at)
             if table is None:  # the clock stopped it
                 return PricingResult(float(threshold), [], False, 0)
-        walk = walk_bound(self.D, prize, allowed, table, delta, G, budget, self.back, can_end)
+        prize_bound = walk_bound(self.D, prize, allowed, table, delta, G, budget, self.back, can_end)
         total = 0
         while True:
             arcs = Arcs(self.D, self.back, allowed, can_end, self.remembered if exact else self.neighbourhoods)
@@ -292,14 +292,14 @@ class Pricing:
             order = most_valuable(ends[:, 1], max_routes)
             routes = [_trace(int(ends[r, 0]), parents, nodes) for r in order]
             if not exact:
-                return PricingResult(float(best), routes, False, int(total), walk)
+                return PricingResult(float(best), routes, False, int(total), prize_bound)
             if complete:  # a relaxation of the elementary routes, labelled to the end
-                walk = min(walk, float(best))
+                prize_bound = min(prize_bound, float(best))
             forbidden = [self._forbid(r) for r in routes]
             if not routes or not forbidden[0] or not complete:
                 # the best route is an ng-route: its prize is the best of every ng-route
                 kept = [r for r, f in zip(routes, forbidden) if not f]
-                return PricingResult(float(best), kept, complete, int(total), walk)
+                return PricingResult(float(best), kept, complete, int(total), prize_bound)
 
     def _forbid(self, route: np.ndarray) -> bool:
         """Whether ``route`` has a cycle the ng-neighbourhoods forbid; if so, remember

@@ -33,7 +33,8 @@ certificate so far (Wentges 1997, Int. Trans. Oper. Res. 4); a smoothed round th
 out nothing for the true duals is repeated with the true duals.
 A heuristic pricing certifies a (weaker) bound too: the pricing's completion table bounds
 every elementary route's prize (:func:`milp.branchprice.ngroute.walk_bound`), and Farley's
-bound with that maximum is valid (:data:`WALK_CERTIFICATES`); such a bound closes nodes and
+bound with that maximum is valid (:data:`PRIZE_BOUND_CERTIFICATES`; so is an exact pricing's
+stopped by the clock, with the best prize of its last complete labelling); such a bound closes nodes and
 is reported, but only exact certificates decide that an LP is solved and serve as the
 stability center.
 
@@ -146,15 +147,17 @@ MAX_KPOIS = BRANCHPRICE_MAX_KPOIS
 CERT_TOL = 1e-9
 #: Weight of the stability center in the pricing duals.
 SMOOTHING = 0.5
-#: Heuristic pricings certify Farley's bound too, with the completion table's bound on
-#: every elementary route's prize (:func:`milp.branchprice.ngroute.walk_bound`): a node
-#: can close, and an unproven root reports a bound, before any exact pricing. Only
+#: Pricings that are not exact certify Farley's bound too, with their certified bound on
+#: every elementary route's prize (:attr:`milp.branchprice.ngroute.PricingResult.prize_bound`:
+#: the completion table's walk bound, or a complete DSSR labelling's best when the clock
+#: stopped a later one): a node can close, and an unproven root reports a bound, before
+#: any exact pricing finishes. Only
 #: exact certificates tell when the LP is solved (stopping column generation at a walk
-#: bound's ceiling leaves worse LPs to branch on), and only they become the smoothing's
+#: prize bound's ceiling leaves worse LPs to branch on), and only they become the smoothing's
 #: stability center: measured on 100-KPOI roots (milp/README.md), a center from the
-#: weaker walk certificates made the heuristic column generation tail off (clustered
+#: weaker certificates made the heuristic column generation tail off (clustered
 #: tours within 2 c_max: not converged after 179 pricings in 60 s, against 133 without).
-WALK_CERTIFICATES = True
+PRIZE_BOUND_CERTIFICATES = True
 #: A makespan decision asks for routes within ``Z * (1 - STRICT)``; a makespan within
 #: ``1 + STRICT`` of a lower bound counts as proven (the relative tolerance of every exact
 #: method here).
@@ -252,7 +255,7 @@ class BranchAndPrice:
         self.cut_memory = np.zeros(self.m + 1, dtype=np.uint64)  # bit t: in cut t's memory
         self.enumeration_gap = ENUMERATION_GAP  # enumerate at nodes with a smaller LP gap (all decisions)
         self.makespan_bound = 0.0  # a lower bound on the least makespan (for min_makespan)
-        self.walk_raised = 0  # bounds raised by heuristic pricings' walk certificates
+        self.prize_bound_raised = 0  # bounds raised by certificates of pricings not exact
 
     @contextmanager
     def until(self, ends_at: float | None) -> Iterator[None]:
@@ -343,13 +346,14 @@ class BranchAndPrice:
         bound, center, certificate = known.bound, None, known.duals
         if certificate is not None:  # cuts added since: their duals 0 certify the same bound
             certificate = np.concatenate((certificate, np.zeros(self.m + len(self.cuts) - len(certificate))))
-        # the best walk certificate (WALK_CERTIFICATES): it closes the node and is reported
-        # when above ``bound``, but only exact certificates tell when the LP is solved
-        walk, walk_duals = -math.inf, None
+        # the best certificate from a pricing not exact (PRIZE_BOUND_CERTIFICATES): it closes
+        # the node and is reported when above ``bound``, but only exact certificates tell
+        # when the LP is solved
+        weak, weak_duals = -math.inf, None
 
         def outcome(why: Why, master: highspy.Highs | None = None) -> LpOutcome:
-            if walk > bound:
-                return LpOutcome(walk, value, columns, x, why, master, walk_duals)
+            if weak > bound:
+                return LpOutcome(weak, value, columns, x, why, master, weak_duals)
             return LpOutcome(bound, value, columns, x, why, master, certificate)
 
         while True:
@@ -374,12 +378,12 @@ class BranchAndPrice:
                     if certified > bound:
                         bound, center = certified, y / max(res.best, 1.0)
                         certificate = center
-                elif WALK_CERTIFICATES and math.isfinite(res.walk):
-                    certified = self._farley(y, res.walk)
-                    if certified > max(walk, bound):
-                        walk, walk_duals = certified, y / max(res.walk, 1.0)
-                        self.walk_raised += 1
-                if rounded_up(max(bound, walk)) > target:
+                elif PRIZE_BOUND_CERTIFICATES and math.isfinite(res.prize_bound):
+                    certified = self._farley(y, res.prize_bound)
+                    if certified > max(weak, bound):
+                        weak, weak_duals = certified, y / max(res.prize_bound, 1.0)
+                        self.prize_bound_raised += 1
+                if rounded_up(max(bound, weak)) > target:
                     return outcome(Why.CLOSED)
                 useful = [r for r in res.routes if self._route_value(r, duals) > 1 + PRICES_OUT]
                 found = self._append(h, columns, useful, budget, node)

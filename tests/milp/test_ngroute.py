@@ -175,7 +175,7 @@ def test_a_stopped_exact_pricing_certifies_its_last_complete_labelling(monkeypat
     result = Pricing(D, tours=False, ng_size=2).price(prize, 3.5, allowed=np.ones((5, 5), bool),
                                                       can_end=np.ones(5, bool), exact=True)
     assert bests == pytest.approx([1.8, 1.2])
-    assert not result.exact and result.walk == pytest.approx(1.8)
+    assert not result.exact and result.prize_bound == pytest.approx(1.8)
 
 
 def brute_force(D, prize, budget, tours, allowed, can_end):

@@ -51,7 +51,7 @@ def test_walk_bound_holds_for_every_elementary_route(seed, tours):
     can_end[0] = False
     for exact in (False, True):
         found = Pricing(D, tours=tours).price(prize, budget, allowed=allowed, can_end=can_end, exact=exact)
-        assert found.walk >= elementary_best(D, prize, budget, tours, allowed, can_end) - 1e-9
+        assert found.prize_bound >= elementary_best(D, prize, budget, tours, allowed, can_end) - 1e-9
 
 
 def test_walk_bound_is_infinite_without_a_grid(monkeypatch):
@@ -61,7 +61,7 @@ def test_walk_bound_is_infinite_without_a_grid(monkeypatch):
     np.fill_diagonal(allowed, False)
     found = Pricing(D, tours=False).price(np.full(6, 0.5), D[0].max() * 2, allowed=allowed,
                                           can_end=np.ones(6, dtype=bool), exact=False)
-    assert found.walk == np.inf
+    assert found.prize_bound == np.inf
 
 
 @pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
@@ -88,7 +88,7 @@ def test_branch_and_price_with_walk_certificates_agrees_with_setpart(make, n, se
         ours, ref = makespan_search.min_makespan(D, k, tours=tours), setpart.min_makespan(D, k, tours=tours)
         assert ours.status == "optimal"
         assert check_solution(D, ours, tours=tours, k=k) == pytest.approx(ref.objective, rel=1e-6)
-    assert sum(search.walk_raised for search in searches) > 0  # the certificates did act
+    assert sum(search.prize_bound_raised for search in searches) > 0  # the certificates did act
 
 
 def test_coincident_kpois_with_walk_certificates():
