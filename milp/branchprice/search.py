@@ -67,8 +67,13 @@ is forbidden in one child (``x = 0``; for tours both directions) and imposed in 
 ``i``), both enforced in the pricing by removing arcs, so that the pricing keeps its
 structure (:class:`milp.branchprice.columns.Node`). Every coverage solution (elementary routes, one
 visit per KPOI) lies in one child. Depth first, imposing first (finds solutions early). A
-node whose arc flows are integral but whose :math:`\lambda` is not cannot be branched on;
-the search then ends unproven (status ``feasible``), never with a wrong claim.
+node whose arc flows are integral but whose :math:`\lambda` is not cannot be branched on.
+Its routes then cross: a KPOI on two routes at no extra length (on the segment between
+its neighbours) lets the routes swap tails there, and the LP mixes both pairings. Any
+pairing is routes of the node's LP value, so the fewest of the master's positive columns
+that cover every KPOI (:meth:`BranchAndPrice.support_covering`) answer the node; when
+they are more than its bound the search ends unproven (status ``feasible``), never with a
+wrong claim.
 
 Route enumeration
 -----------------
@@ -570,13 +575,24 @@ class BranchAndPrice:
                 fractional.append((abs(f - math.floor(f) - 0.5), (i, j) if forward >= backward else (j, i)))
         return [arc for _, arc in sorted(fractional)]
 
+    def support_covering(self, outcome: LpOutcome) -> list[list[int]] | None:
+        r"""The fewest of the master's columns with positive :math:`\lambda` that cover
+        every KPOI (set covering (1)-(3) over them, HiGHS MIP, with the integer master's
+        time), or None: the answer to a node that cannot be branched on (module
+        docstring, Branching)."""
+        orders = [self.pool.orders[c] for c, v in zip(outcome.columns, outcome.x) if v > INTEGRAL]
+        return colgen.fewest_covering(orders, self.m, self._integer_master_seconds())
+
+    def _integer_master_seconds(self) -> float:
+        """:data:`MASTER_IP_SHARE` of the time left, at most :data:`MASTER_IP_CAP` seconds."""
+        left = self.left()
+        return MASTER_IP_CAP if left is None else max(min(MASTER_IP_CAP, MASTER_IP_SHARE * left), 0.01)
+
     def integer_master(self, budget: float) -> list[list[int]] | None:
         """Set covering (1)-(3) over every pooled column within ``budget`` (HiGHS MIP), for
         :data:`MASTER_IP_SHARE` of the time left (at most :data:`MASTER_IP_CAP` seconds)."""
         orders = [self.pool.orders[c] for c in np.flatnonzero(self.pool.lengths <= budget)]
-        left = self.left()
-        seconds = MASTER_IP_CAP if left is None else max(min(MASTER_IP_CAP, MASTER_IP_SHARE * left), 0.01)
-        return colgen.fewest_covering(orders, self.m, seconds)
+        return colgen.fewest_covering(orders, self.m, self._integer_master_seconds())
 
     def fewest_routes(self, budget: float, incumbent: list[list[int]] | None, target: int,
                       *, first: bool, improve: Improve | None = None, floor: int = 1,

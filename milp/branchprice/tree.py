@@ -131,6 +131,10 @@ class Search(Protocol[Outcome]):
     def branching_arc(self, node: Node, outcome: Outcome, target: int) -> tuple[int, int] | None:
         """The arc to branch on, or None when there is none."""
 
+    def support_covering(self, outcome: Outcome) -> list[list[int]] | None:
+        """A covering by the fewest of the master's positive columns, or None (for a
+        node whose arc flows are integral but whose solution is not)."""
+
     def integer_master(self, budget: float) -> list[list[int]] | None:
         """A covering by the fewest pooled columns within ``budget``, or None."""
 
@@ -202,8 +206,12 @@ class Decision:
         if search.integral_routes(outcome) is not None:
             return None, []  # an integral LP optimum: nothing better below this node
         arc = search.branching_arc(node, outcome, self.target)
-        if arc is None:
-            self.unresolved = True
+        if arc is None:  # integral arc flows, fractional lambda: crossing routes
+            routes = search.support_covering(outcome)
+            if self._accept(routes):
+                return Ending.FOUND, []
+            if routes is None or len(routes) > rounded:
+                self.unresolved = True
             return None, []
         one, zero = node.children(arc, tours=search.tours)
         return None, [zero, one]  # imposing first

@@ -141,6 +141,41 @@ def test_strong_branching_reaches_setparts_optimum(monkeypatch):
     assert max(map(abs, restored)) < 1e-7
 
 
+def crossing_routes() -> tuple[branchprice.BranchAndPrice, branchprice.LpOutcome]:
+    """Two paths that cross at KPOI 3 with equal length whichever tails they take: from
+    the start (0, 0) over 1 = (1, 1) or 2 = (1, -1) to 3 = (2, 0), then to 4 = (3, 1) or
+    5 = (3, -1), each 3 sqrt 2 long. A master solution of 1/2 on each of the four pairings
+    has flow 1 on every arc it uses (worked by hand: each arc is on two of the four), so
+    its arc flows are integral and its lambda not."""
+    points = np.array([[0, 0], [1, 1], [1, -1], [2, 0], [3, 1], [3, -1]], dtype=float)
+    D = np.linalg.norm(points[:, None] - points[None, :], axis=2)
+    search = branchprice.BranchAndPrice(D, tours=False, ends_at=None)
+    columns = list(search.pool.add([np.array(r) for r in ([1, 3, 4], [2, 3, 5], [1, 3, 5], [2, 3, 4])]))
+    outcome = branchprice.LpOutcome(2.0, 2.0, columns, np.full(4, 0.5), tree.Why.SOLVED)
+    return search, outcome
+
+
+def test_crossing_routes_have_no_arc_to_branch_on_but_their_columns_cover():
+    search, outcome = crossing_routes()
+    assert search.fractional_arcs(outcome) == []
+    routes = search.support_covering(outcome)
+    assert routes is not None and len(routes) == 2
+    assert sorted(k for r in routes for k in r) == [1, 2, 3, 4, 5]
+
+
+def test_a_node_without_an_arc_to_branch_on_is_answered_by_its_columns(monkeypatch):
+    """The tree at a node whose LP (2 routes, target 2) is the crossing above: the covering
+    by its columns answers it, so the search ends exhausted with 2 routes (before:
+    unknown, nothing found)."""
+    search, outcome = crossing_routes()
+    monkeypatch.setattr(search, "solve_node", lambda node, budget, target: outcome)
+    monkeypatch.setattr(search, "integer_master", lambda budget: None)  # no primal side first
+    monkeypatch.setattr(search, "enumerate_node", lambda node, outcome, budget, target, shortest: (outcome, None))
+    decision = tree.Decision(search, 3 * math.sqrt(2), None, 2, first=False, improve=None)
+    assert decision.run() == tree.Ending.EXHAUSTED
+    assert decision.best is not None and len(decision.best) == 2
+
+
 def test_integer_master_below_the_root_keeps_the_optimum(monkeypatch):
     """With POOL_GROWTH = 1 the integer master runs before every node below the root (at
     most once per search at the root): its coverings, accepted as solutions, must leave
