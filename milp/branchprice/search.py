@@ -34,7 +34,7 @@ out nothing for the true duals is repeated with the true duals.
 A heuristic pricing certifies a (weaker) bound too: the pricing's completion table bounds
 every elementary route's prize (:func:`milp.branchprice.ngroute.walk_bound`), and Farley's
 bound with that maximum is valid (:data:`PRIZE_BOUND_CERTIFICATES`; so is an exact pricing's
-stopped by the clock, with the best prize of its last complete labelling); such a bound closes nodes and
+stopped by the clock, with the least best prize of its complete labellings); such a bound closes nodes and
 is reported, but only exact certificates decide that an LP is solved and serve as the
 stability center.
 
@@ -68,12 +68,12 @@ is forbidden in one child (``x = 0``; for tours both directions) and imposed in 
 structure (:class:`milp.branchprice.columns.Node`). Every coverage solution (elementary routes, one
 visit per KPOI) lies in one child. Depth first, imposing first (finds solutions early). A
 node whose arc flows are integral but whose :math:`\lambda` is not cannot be branched on.
-Its routes then cross: a KPOI on two routes at no extra length (on the segment between
-its neighbours) lets the routes swap tails there, and the LP mixes both pairings. Any
-pairing is routes of the node's LP value, so the fewest of the master's positive columns
-that cover every KPOI (:meth:`BranchAndPrice.support_covering`) answer the node; when
-they are more than its bound the search ends unproven (status ``feasible``), never with a
-wrong claim.
+Such a master mixes routes that share their arcs: a tour and its reverse, or two routes
+through a KPOI at no extra length (on the segment between its neighbours) in both pairings
+of their tails. Then a few of its positive columns usually cover every KPOI with the
+node's LP value, so the fewest that do (:meth:`BranchAndPrice.support_covering`) answer
+the node when they meet its bound; otherwise the node is left open and the search ends
+unproven (status ``feasible``), never with a wrong claim.
 
 Route enumeration
 -----------------
@@ -157,8 +157,8 @@ SMOOTHING = 0.5
 #: the completion table's walk bound, or a complete DSSR labelling's best when the clock
 #: stopped a later one): a node can close, and an unproven root reports a bound, before
 #: any exact pricing finishes. Only
-#: exact certificates tell when the LP is solved (stopping column generation at a walk
-#: prize bound's ceiling leaves worse LPs to branch on), and only they become the smoothing's
+#: exact certificates tell when the LP is solved (stopping column generation at such a
+#: bound's ceiling leaves worse LPs to branch on), and only they become the smoothing's
 #: stability center: measured on 100-KPOI roots (milp/README.md), a center from the
 #: weaker certificates made the heuristic column generation tail off (clustered
 #: tours within 2 c_max: not converged after 179 pricings in 60 s, against 133 without).

@@ -159,7 +159,7 @@ def test_a_stopped_exact_pricing_certifies_its_last_complete_labelling(monkeypat
     best is route 1, 2, 1 (length 3, prize 1.8; 1 is forgotten at 2), a forbidden cycle, so
     a second labelling runs; the clock stops it. The result is not exact, but 1.8 still
     bounds every elementary route's prize (the best, 1, 2, is 1.2): it is the certificate
-    (``walk``), and the stopped labelling's best is not."""
+    (``prize_bound``), and the stopped labelling's best is not."""
     x = np.array([0.0, 1.0, 2.0, 4.0, 8.0])
     D = np.abs(x[:, None] - x[None])
     prize = np.array([0.0, 0.6, 0.6, 0.0, 0.0])
