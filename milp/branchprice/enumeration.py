@@ -44,15 +44,20 @@ subfamilies, each failure a proof.
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 
 import numpy as np
 
-from milp.core.jit import compiled_layout, njit
-from milp.branchprice.ngroute import BUDGET_ROUND, WORD, completion_table, grid_step, enlarged
+from numba import objmode
 
-__all__ = ["Family", "routes_within_gap", "KERNELS"]
+from milp.core.jit import compiled_layout, njit
+from milp.branchprice.ngroute import BUDGET_ROUND, WORD, completion_table, enlarged, grid_step, read_clock
+
+__all__ = ["Family", "routes_within_gap", "KERNELS", "EXTENSIONS_PER_CLOCK"]
+
+#: A level's extension reads the clock after trying this many (state, KPOI) extensions
+#: (a few milliseconds' work).
+EXTENSIONS_PER_CLOCK = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -76,9 +81,16 @@ class Family:
     def maximal(self, within: float = math.inf) -> tuple[list[np.ndarray], np.ndarray]:
         """The routes of the sets maximal among those whose route is within ``within``
         (KPOI sequences), and their lengths."""
-        extended = np.isfinite(self.extended) & (self.extended <= within)
-        keep = np.flatnonzero((self.lengths <= within) & ~extended)
+        keep = np.flatnonzero(self._is_maximal(within))
         return [_trace(self.levels, int(level), int(index)) for level, index in self.where[keep]], self.lengths[keep]
+
+    def count_maximal(self, within: float = math.inf) -> int:
+        """How many routes :meth:`maximal` returns, without tracing them."""
+        return int(np.count_nonzero(self._is_maximal(within)))
+
+    def _is_maximal(self, within: float) -> np.ndarray:
+        extended = np.isfinite(self.extended) & (self.extended <= within)
+        return (self.lengths <= within) & ~extended
 
 
 def routes_within_gap(
@@ -109,12 +121,17 @@ def routes_within_gap(
     allowed, can_end : numpy.ndarray
         Arcs the routes may use (row 0: first arcs) and KPOIs they may end at.
     max_states : int
-        Give up (return None) when more partial routes than this would be kept.
+        Give up (return None) when more partial routes than this would be kept: when a
+        level extends to more states than are left of it (counted before only the
+        shortest of each set and last KPOI is kept, so that the listing stops before
+        sorting them, the costly part: 7 s for 8.7 million states).
     max_sets : int, optional
         ... or when more than this many (set, last KPOI) states reach the threshold (the
         maximal-set filter and the MIP grow with them).
     ends_at : float
-        A ``time.perf_counter()`` value; None is returned once it passes (read between levels).
+        A ``time.perf_counter()`` value; None is returned once it passes (read every
+        :data:`EXTENSIONS_PER_CLOCK` extensions and between the steps after them), or
+        once the thread is asked to stop (:func:`milp.branchprice.ngroute.read_clock`).
 
     Returns
     -------
@@ -139,13 +156,16 @@ def routes_within_gap(
     found: list[tuple[int, np.ndarray, np.ndarray, np.ndarray]] = []  # level, states, sets, lengths
     total = reached = 0
     while len(last):
-        parent, last, length, gained = _extend(sets, last, length, gained, D, back, prize, allowed,
-                                               budget, threshold, table, delta, G)
+        parent, last, length, gained, complete = _extend(sets, last, length, gained, D, back, prize, allowed,
+                                                         budget, threshold, table, delta, G, max_states - total,
+                                                         ends_at)
+        if not complete or read_clock() >= ends_at:
+            return None
         sets = sets[parent]
         sets[np.arange(len(last)), last // WORD] |= np.left_shift(np.uint64(1), (last % WORD).astype(np.uint64))
         sets, last, length, gained, parent = _shortest_per_end(sets, last, length, gained, parent)
         total += len(last)
-        if total > max_states or time.perf_counter() >= ends_at:
+        if read_clock() >= ends_at:
             return None
         levels.append((parent, last))
         ends = np.flatnonzero((gained >= threshold) & can_end[last])
@@ -156,7 +176,7 @@ def routes_within_gap(
             found.append((len(levels) - 1, ends, sets[ends], length[ends] + back[last[ends]]))
     if not found:
         return Family(np.zeros(0), np.zeros(0), levels, np.zeros((0, 2), np.int64))
-    if time.perf_counter() >= ends_at:
+    if read_clock() >= ends_at:
         return None
     family = np.concatenate([f[2] for f in found])
     lengths = np.concatenate([f[3] for f in found])
@@ -166,7 +186,8 @@ def routes_within_gap(
     first = np.ones(len(order), dtype=bool)
     first[1:] = np.any(family[1:] != family[:-1], axis=1)
     family, lengths = family[first], lengths[first]
-    return Family(lengths, _shortest_extension(family, lengths, m1), levels, where[first])
+    extended = _shortest_extension(family, lengths, m1, ends_at)
+    return None if extended is None else Family(lengths, extended, levels, where[first])
 
 
 def _trace(levels: list[tuple[np.ndarray, np.ndarray]], level: int, index: int) -> np.ndarray:
@@ -185,14 +206,17 @@ def _rows(a: np.ndarray) -> np.ndarray:
     return a.view(np.dtype((np.void, a.dtype.itemsize * a.shape[1]))).ravel()
 
 
-def _shortest_extension(family: np.ndarray, lengths: np.ndarray, m1: int) -> np.ndarray:
+def _shortest_extension(family: np.ndarray, lengths: np.ndarray, m1: int, ends_at: float) -> np.ndarray | None:
     """For each set of ``family`` (distinct bit rows), the least length of its one-KPOI
-    extensions in the family (inf when none is)."""
+    extensions in the family (inf when none is); None when the clock passes ``ends_at``
+    first (read once a KPOI)."""
     known = _rows(family)
     order = np.argsort(known)
     known = known[order]
     extended = np.full(len(family), np.inf)
     for v in range(1, m1):
+        if read_clock() >= ends_at:
+            return None
         w, bit = divmod(v, WORD)
         flag = np.uint64(1) << np.uint64(bit)
         lacking = np.flatnonzero((family[:, w] & flag) == 0)
@@ -219,19 +243,29 @@ def _shortest_per_end(sets, last, length, gained, parent):
 
 @njit(cache=True)
 def _extend(sets, last, length, gained, D, back, prize, allowed, budget, threshold, table, delta,
-            G):  # pragma: no cover - compiled
+            G, room, ends_at):  # pragma: no cover - compiled
     """Every state one KPOI longer that fits the budget (the way home included) and whose
     prize plus completion bound reaches ``threshold``: its parent's index, last KPOI,
-    length and prize."""
+    length and prize, and whether the level is complete (False: it stopped at more than
+    ``room`` states, or when the clock, read every :data:`EXTENSIONS_PER_CLOCK`
+    extensions, passed ``ends_at``)."""
     m1 = D.shape[0]
-    size = max(16, 4 * len(last))
+    size = max(16, min(4 * len(last), room + 1))
     out_parent = np.zeros(size, np.int64)
     out_last = np.zeros(size, np.int64)
     out_length = np.zeros(size)
     out_gained = np.zeros(size)
     count = 0
+    tried = 0
     for s in range(len(last)):
         i = last[s]
+        tried += m1
+        if tried >= EXTENSIONS_PER_CLOCK:
+            tried = 0
+            with objmode(now="float64"):
+                now = read_clock()
+            if now >= ends_at:
+                return out_parent[:count], out_last[:count], out_length[:count], out_gained[:count], False
         for j in range(1, m1):
             if sets[s, j // WORD] & (np.uint64(1) << np.uint64(j % WORD)) or not allowed[i, j]:
                 continue
@@ -242,13 +276,15 @@ def _extend(sets, last, length, gained, D, back, prize, allowed, budget, thresho
             b = int(math.floor((budget - reach) / delta * (1.0 + BUDGET_ROUND))) + 1
             if b < 0 or p + table[min(b, G), j] < threshold:
                 continue
+            if count == room:
+                return out_parent[:count], out_last[:count], out_length[:count], out_gained[:count], False
             if count == size:
                 size *= 2
                 out_parent, out_last = enlarged(out_parent, size), enlarged(out_last, size)
                 out_length, out_gained = enlarged(out_length, size), enlarged(out_gained, size)
             out_parent[count], out_last[count], out_length[count], out_gained[count] = s, j, reach, p
             count += 1
-    return out_parent[:count], out_last[:count], out_length[:count], out_gained[:count]
+    return out_parent[:count], out_last[:count], out_length[:count], out_gained[:count], True
 
 
 #: Every compiled (numba) function of this module, for :mod:`milp.branchprice.compiling` to check and compile.

@@ -655,10 +655,10 @@ class BranchAndPrice:
             self.pricing.D, self.pricing.back, np.concatenate(([0.0], y[:self.m])), budget,
             1.0 - gap - ENUMERATION_SLACK, node.allowed, node.allowed[:, 0],
             max_states=ENUMERATION_STATES, max_sets=ENUMERATION_SETS, ends_at=ends_at)
-        orders, lengths = family.maximal() if family is not None else ([], np.zeros(0))
-        if family is None or len(orders) > ENUMERATION_MAXIMAL:  # gave up, or too large a MIP
+        if family is None or family.count_maximal() > ENUMERATION_MAXIMAL:  # gave up, or too large a MIP
             self.enumeration_gap = ENUMERATION_RETRY * gap
             return outcome, None
+        orders, lengths = family.maximal()
         decided, routes = self._covering(orders, target, ends_at)
         if not decided:
             return outcome, None

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import bisect
 import itertools
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -13,7 +15,9 @@ from milp import setpart
 from milp.branchprice import columns
 from milp.branchprice import makespan as makespan_search
 from milp.branchprice import search as branchprice
+from milp.branchprice import enumeration
 from milp.branchprice.enumeration import routes_within_gap
+from milp.core.timelimit import stopping
 from milp.core.routes import least_makespan
 
 
@@ -63,6 +67,7 @@ def test_lists_every_set_and_the_maximal_ones_within_any_length(seed):
         inside = {s for s, length in family.items() if length <= within}
         maximal = {s for s in inside if not any(s < t for t in inside)}
         listed, lengths = listing.maximal(within)
+        assert listing.count_maximal(within) == len(listed)
         sets = [frozenset(r.tolist()) for r in listed]
         assert len(sets) == len(set(sets))
         assert set(sets) >= maximal
@@ -84,6 +89,50 @@ def test_gives_up_past_its_state_limit():
     assert routes_within_gap(*args, max_states=50) is None
     assert routes_within_gap(*args, max_states=10**7, max_sets=5) is None
     assert len(routes_within_gap(*args, max_states=10**7))
+
+
+def test_gives_up_before_sorting_a_level_past_its_state_limit(monkeypatch):
+    """A level that extends to more states than are left of the limit ends the listing
+    before they are sorted (the sort of 8.7 million states took 7 s past the listing's
+    time): no sort ever sees more states than the limit."""
+    sorted_sizes = []
+    shortest_per_end = enumeration._shortest_per_end
+
+    def recording(sets, *args):
+        sorted_sizes.append(len(sets))
+        return shortest_per_end(sets, *args)
+
+    monkeypatch.setattr(enumeration, "_shortest_per_end", recording)
+    for limit in (50, 500, 5000):
+        sorted_sizes[:] = []
+        assert routes_within_gap(*_many_states(12), max_states=limit) is None
+        assert sorted_sizes and max(sorted_sizes) <= limit
+
+
+def _many_states(n: int) -> tuple:
+    """A listing of many states: ``n`` KPOIs, small prizes, a long budget."""
+    rng = np.random.default_rng(0)
+    points = rng.uniform(0, 100, (n + 1, 2))
+    D = np.linalg.norm(points[:, None] - points[None], axis=-1)
+    prize = np.concatenate(([0.0], np.full(n, 0.1)))
+    return D, D[:, 0].copy(), prize, 1000.0, 0.3, ~np.eye(n + 1, dtype=bool), np.ones(n + 1, dtype=bool)
+
+
+def test_a_listing_stops_at_its_clock_and_at_a_stop_request():
+    """Within a level too (the clock is read every EXTENSIONS_PER_CLOCK extensions): a
+    listing of billions of states ends within a fraction of a second of its end, or of
+    the thread's stop request (a race's other entrant proved the answer)."""
+    args = _many_states(40)
+    routes_within_gap(*_many_states(5), max_states=10)  # compiled before the clock starts
+    began = time.perf_counter()
+    assert routes_within_gap(*args, max_states=10**12, ends_at=began + 0.3) is None
+    assert time.perf_counter() - began < 1.5
+    stop = threading.Event()
+    stop.set()
+    with stopping(stop):
+        began = time.perf_counter()
+        assert routes_within_gap(*args, max_states=10**12) is None
+        assert time.perf_counter() - began < 1.5
 
 
 def _euclidean(n: int, seed: int) -> np.ndarray:
