@@ -24,7 +24,7 @@ from pathlib import Path
 from benchmarks.common import ROOT, Config, Section, compile_pricing
 
 SECTIONS = ("greedy_scaling", "exact_scaling", "exact_targets", "building_scale", "building_scale_unseen",
-            "building_scale_makespan",
+            "building_scale_makespan", "building_scale_makespan_unseen",
             "heuristic_quality", "mtsp_literature", "maps_speed", "report_speed")
 PACKAGES = ("numpy", "scipy", "pandas", "highspy", "cvxpy", "networkx", "ortools", "pyvrp")
 

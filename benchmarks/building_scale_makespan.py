@@ -25,6 +25,21 @@ def run(config: Config) -> Section:
     """Every least-makespan cell; table and target lines."""
     cells, kinds, seeds, limit = ((QUICK["cells"], QUICK["kinds"], QUICK["seeds"], QUICK["limit"])
                                   if config.quick else (CELLS, KINDS, SEEDS, LIMIT))
+    frame = pd.DataFrame(makespan_rows(config, "building_scale_makespan", cells, kinds, seeds, limit))
+    intro = (
+        "The least makespan with a few long routes at building scale: "
+        + ", ".join(f"k = {k} at {n} KPOIs" for n, k in cells)
+        + f", paths and tours, {' and '.join(kinds)} instances (`parcover generate random`; the "
+        f"clustered ones draw KPOIs around three centres), seeds {', '.join(map(str, seeds))}, "
+        f"{limit:g} s a cell, `parcover solve`'s default `exact` (the warm start from `best` counted in "
+        "its seconds). A cell left unproven shows its makespan and the certified bound.")
+    return cells_section("Building scale, least makespan", "building_scale_makespan", intro, frame)
+
+
+def makespan_rows(config: Config, section: str, cells: tuple[tuple[int, int], ...], kinds: tuple[str, ...],
+                  seeds: tuple[int, ...], limit: float) -> list[dict]:
+    """The least makespan of every ``(n, k)`` cell on each kind and seed, paths and tours,
+    ``limit`` seconds each (progress logged under ``section``'s name)."""
     rows = []
     total = len(cells) * len(kinds) * len(seeds)
     number = 0
@@ -34,16 +49,8 @@ def run(config: Config) -> Section:
                 number += 1
                 inst = instance(kind, n, seed)
                 for routes in ("paths", "tours"):
-                    config.log(f"[building_scale_makespan] {number}/{total} {kind} n={n} k={k} seed {seed} {routes}")
+                    config.log(f"[{section}] {number}/{total} {kind} n={n} k={k} seed {seed} {routes}")
                     out = solve_cell(inst, "exact", tours=routes == "tours", k=k, deadline=None, limit=limit)
                     rows.append({"part": "makespan", "kind": kind, "n": n, "seed": seed, "routes": routes,
                                  "question": f"makespan k={k}", "limit": limit, **out})
-    frame = pd.DataFrame(rows)
-    intro = (
-        "The least makespan with a few long routes at building scale: "
-        + ", ".join(f"k = {k} at {n} KPOIs" for n, k in cells)
-        + f", paths and tours, {' and '.join(kinds)} instances (`parcover generate random`; the "
-        f"clustered ones draw KPOIs around three centres), seeds {', '.join(map(str, seeds))}, "
-        f"{limit:g} s a cell, `parcover solve`'s default `exact` (the warm start from `best` counted in "
-        "its seconds). A cell left unproven shows its makespan and the certified bound.")
-    return cells_section("Building scale, least makespan", "building_scale_makespan", intro, frame)
+    return rows

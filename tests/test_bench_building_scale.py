@@ -6,7 +6,7 @@ from __future__ import annotations
 import pandas as pd
 import pytest
 
-from benchmarks import building_scale, building_scale_makespan, building_scale_unseen
+from benchmarks import building_scale, building_scale_makespan, building_scale_makespan_unseen, building_scale_unseen
 from benchmarks.common import Config
 
 
@@ -40,6 +40,17 @@ def test_quick_makespan_run_reports_every_cell_with_a_line_per_kind(tmp_path):
     assert len(frame) == len(quick["cells"]) * len(quick["kinds"]) * len(quick["seeds"]) * 2  # paths, tours
     assert (frame["status"] != "invalid").all() and set(frame["question"]) == {"makespan k=3"}
     assert len(section.targets) == 2 and all("makespan k=3" in line for line in section.targets)
+
+
+def test_quick_unseen_makespan_run_reports_every_cell_on_a_seed_the_grid_does_not_use(tmp_path):
+    section = building_scale_makespan_unseen.run(Config(quick=True, figures=tmp_path, figures_link="f",
+                                                        log=lambda line: None))
+    frame = section.tables["building_scale_makespan_unseen"]
+    assert len(frame) == 2 and set(frame["routes"]) == {"paths", "tours"}  # one cell, paths and tours
+    assert set(frame["seed"]) == {building_scale_unseen.SEED}
+    assert building_scale_unseen.SEED not in building_scale_makespan.SEEDS
+    assert (frame["status"] != "invalid").all() and set(frame["kind"]) == {"clustered"}
+    assert len(section.targets) == 2
 
 
 def test_a_target_is_met_only_when_every_cell_is_proven_in_time():
