@@ -47,7 +47,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-
 from numba import objmode
 
 from milp.core.jit import compiled_layout, njit
@@ -89,6 +88,7 @@ class Family:
         return int(np.count_nonzero(self._is_maximal(within)))
 
     def _is_maximal(self, within: float) -> np.ndarray:
+        """Per set: whether it is maximal among the sets whose route is within ``within``."""
         extended = np.isfinite(self.extended) & (self.extended <= within)
         return (self.lengths <= within) & ~extended
 
