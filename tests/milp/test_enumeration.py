@@ -93,8 +93,9 @@ def test_gives_up_past_its_state_limit():
 
 def test_gives_up_before_sorting_a_level_past_its_state_limit(monkeypatch):
     """A level that extends to more states than are left of the limit ends the listing
-    before they are sorted (the sort of 8.7 million states took 7 s past the listing's
-    time): no sort ever sees more states than the limit."""
+    before the shortest of each set and last KPOI are picked (a sort of 8.7 million
+    states took 7 s past the listing's time): that filter never sees more states than
+    the limit."""
     sorted_sizes = []
     shortest_per_end = enumeration._shortest_per_end
 
