@@ -110,6 +110,24 @@ def test_gives_up_before_sorting_a_level_past_its_state_limit(monkeypatch):
         assert sorted_sizes and max(sorted_sizes) <= limit
 
 
+@pytest.mark.parametrize("seed", range(6))
+def test_keeps_the_first_shortest_state_of_each_set_and_last_kpoi(seed):
+    """Against a dictionary: per (set, last KPOI) pair the shortest state, the first of
+    equally short ones (lengths drawn from a few values, so ties occur), pairs in the order
+    they first occur."""
+    rng = np.random.default_rng(seed)
+    n, words = int(rng.integers(1, 400)), int(rng.integers(1, 3))
+    sets = rng.integers(0, 4, (n, words)).astype(np.uint64)
+    last = rng.integers(1, 4, n).astype(np.int64)
+    length = rng.integers(0, 5, n).astype(np.float64)
+    best: dict[tuple, int] = {}
+    for s in range(n):
+        key = (*sets[s].tolist(), int(last[s]))
+        if key not in best or length[s] < length[best[key]]:
+            best[key] = s
+    assert enumeration._first_shortest(sets, last, length).tolist() == list(best.values())
+
+
 def _many_states(n: int) -> tuple:
     """A listing of many states: ``n`` KPOIs, small prizes, a long budget."""
     rng = np.random.default_rng(0)
