@@ -93,8 +93,9 @@ def test_gives_up_past_its_state_limit():
 
 def test_gives_up_before_sorting_a_level_past_its_state_limit(monkeypatch):
     """A level that extends to more states than are left of the limit ends the listing
-    before they are sorted (the sort of 8.7 million states took 7 s past the listing's
-    time): no sort ever sees more states than the limit."""
+    before the shortest of each set and last KPOI are picked (a sort of 8.7 million
+    states took 7 s past the listing's time): that filter never sees more states than
+    the limit."""
     sorted_sizes = []
     shortest_per_end = enumeration._shortest_per_end
 
@@ -107,6 +108,24 @@ def test_gives_up_before_sorting_a_level_past_its_state_limit(monkeypatch):
         sorted_sizes[:] = []
         assert routes_within_gap(*_many_states(12), max_states=limit) is None
         assert sorted_sizes and max(sorted_sizes) <= limit
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_keeps_the_first_shortest_state_of_each_set_and_last_kpoi(seed):
+    """Against a dictionary: per (set, last KPOI) pair the shortest state, the first of
+    equally short ones (lengths drawn from a few values, so ties occur), pairs in the order
+    they first occur."""
+    rng = np.random.default_rng(seed)
+    n, words = int(rng.integers(1, 400)), int(rng.integers(1, 3))
+    sets = rng.integers(0, 4, (n, words)).astype(np.uint64)
+    last = rng.integers(1, 4, n).astype(np.int64)
+    length = rng.integers(0, 5, n).astype(np.float64)
+    best: dict[tuple, int] = {}
+    for s in range(n):
+        key = (*sets[s].tolist(), int(last[s]))
+        if key not in best or length[s] < length[best[key]]:
+            best[key] = s
+    assert enumeration._first_shortest(sets, last, length).tolist() == list(best.values())
 
 
 def _many_states(n: int) -> tuple:
