@@ -81,9 +81,10 @@ class Pool:
 class Node:
     """Branching decisions: ``allowed[i, j]`` for the arcs routes may use, row 0 the
     first arcs, column 0 the arcs to the end (``allowed[i, 0]``: a route may end at
-    ``i``)."""
+    ``i``); ``depth``, the branchings from the root."""
 
     allowed: np.ndarray
+    depth: int = 0
 
     @classmethod
     def root(cls, m: int) -> Node:
@@ -100,7 +101,7 @@ class Node:
         solution that uses the edge in the imposed child (reverse its tour if needed).
         """
         i, j = arc
-        one, zero = Node(self.allowed.copy()), Node(self.allowed.copy())
+        one, zero = Node(self.allowed.copy(), self.depth + 1), Node(self.allowed.copy(), self.depth + 1)
         zero.allowed[i, j] = False
         if tours:
             zero.allowed[j, i] = False

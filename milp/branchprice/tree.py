@@ -25,7 +25,7 @@ from milp.branchprice.columns import Node
 log = logging.getLogger(__name__)
 
 __all__ = ["Decision", "Search", "NodeOutcome", "Why", "Ending", "Settled", "Improve", "rounded_up", "ROUND",
-           "POOL_GROWTH"]
+           "POOL_GROWTH", "PROGRESS_SECONDS"]
 
 #: A heuristic asked for routes (KPOIs ``1..n``) with at most the given number of routes
 #: within the deadline, or ``None``; its second argument is the seconds the root took, a
@@ -38,6 +38,8 @@ ROUND = 1e-6
 #: this many times since it last ran (enumerated families add many routes within the
 #: budget; a covering of them is a solution the tree may reach only much later).
 POOL_GROWTH = 2.0
+#: Seconds between two progress lines of a running tree (``--log``).
+PROGRESS_SECONDS = 10.0
 
 
 class Why(enum.StrEnum):
@@ -153,9 +155,12 @@ class Decision:
         self.unresolved = False  # a node was left open (pricing stalled, nothing to branch on)
         self.pool_tried = 0  # the pool's size when the integer master last ran
         self.began = time.perf_counter()  # the root's seconds, for improve, count from here
+        self.reported = self.began  # when the last progress line was written
+        self.closed = 0  # nodes closed by their bound or answered by enumeration
 
     def run(self) -> Ending:
-        """Search the tree; how it ended."""
+        """Search the tree; how it ended. With logging on, a line every
+        :data:`PROGRESS_SECONDS`: nodes solved and closed, nodes open, the deepest open one."""
         stack = [Node.root(self.search.m)]
         while stack:
             if self.search.out_of_time():
@@ -164,7 +169,18 @@ class Decision:
             if ended is not None:
                 return ended
             stack.extend(children)
+            self._report(stack)
         return Ending.UNKNOWN if self.unresolved else Ending.EXHAUSTED
+
+    def _report(self, stack: list[Node]) -> None:
+        """The progress line, when :data:`PROGRESS_SECONDS` have passed since the last."""
+        now = time.perf_counter()
+        if now - self.reported < PROGRESS_SECONDS or not log.isEnabledFor(logging.INFO):
+            return
+        self.reported = now
+        depth = max((node.depth for node in stack), default=0)
+        log.info("branch-and-price: %d nodes solved, %d closed, %d open (deepest %d branchings), "
+                 "looking for %d routes", self.search.nodes, self.closed, len(stack), depth, self.target)
 
     def _visit(self, node: Node) -> tuple[Ending | None, list[Node]]:
         """Solve ``node``: how the search ends there (:attr:`Ending.FOUND`, :attr:`Ending.LEAST`,
@@ -178,7 +194,8 @@ class Decision:
         rounded = rounded_up(outcome.bound)
         if at_root:
             self.root_bound = max(1, rounded) if math.isfinite(rounded) else None
-            log.info("branch-and-price: the root LP needs at least %s routes (%d allowed)", self.root_bound, self.target)
+            log.info("branch-and-price: the root LP needs at least %s routes (%d allowed; LP bound %.6g, %s)",
+                     self.root_bound, self.target, outcome.bound, outcome.why)
         if at_root and any(self._accept(routes) for routes in self._root_candidates(rounded)):
             return Ending.FOUND, []
         settled = None
@@ -199,6 +216,7 @@ class Decision:
         if outcome.why == Why.TIME_LIMIT:
             return Ending.UNKNOWN, []
         if rounded > self.target or settled is not None:
+            self.closed += 1
             return None, []  # closed by its bound, or answered by enumeration
         if outcome.why != Why.SOLVED:
             self.unresolved = True

@@ -8,7 +8,9 @@ instances against setpart, and the time limit.
 from __future__ import annotations
 
 import itertools
+import logging
 import math
+import re
 import time
 
 import numpy as np
@@ -19,6 +21,7 @@ from milp_helpers import TOL, check_solution, euclidean, graph_metric
 
 from milp import setpart
 from milp.branchprice import colgen, ngroute, tree
+from milp.branchprice.columns import Node
 from milp.branchprice import makespan as makespan_search
 from milp.branchprice import search as branchprice
 from milp.branchprice.ngroute import MAX_CUTS, Pricing
@@ -204,6 +207,27 @@ def test_integer_master_below_the_root_keeps_the_optimum(monkeypatch):
         check_solution(D, ours, tours=tours, deadline=deadline)
         assert ours.objective == setpart.min_robots(D, deadline, tours=tours).objective
     assert len(masters) > len(searches)
+
+
+def test_a_branching_tree_logs_its_progress(monkeypatch, caplog):
+    """With logging on, the tree writes its root LP value and a line of nodes solved,
+    closed and open every PROGRESS_SECONDS (0 here: after every node), and the depth of
+    the deepest open node counts the branchings."""
+    monkeypatch.setattr(tree, "PROGRESS_SECONDS", 0.0)
+    monkeypatch.setattr(branchprice, "ENUMERATION_ROUTES", (0, -1))  # the tree, not enumeration
+    D = euclidean(16, 1)  # branches (test_strong_branching_reaches_setparts_optimum)
+    with caplog.at_level(logging.INFO, logger="milp"):
+        assert makespan_search.min_makespan(D, 4, tours=False, time_limit=60).status == "optimal"
+    messages = [record.getMessage() for record in caplog.records]
+    assert any(re.search(r"root LP needs at least \d+ routes \(\d+ allowed; LP bound [\d.]+, \w", m)
+               for m in messages)
+    progress = [re.search(r"(\d+) nodes solved, (\d+) closed, (\d+) open \(deepest (\d+) branchings\)", m)
+                for m in messages]
+    progress = [tuple(map(int, p.groups())) for p in progress if p]
+    assert progress and any(depth > 0 for *_, depth in progress)
+    assert all(closed <= solved for solved, closed, _, _ in progress)
+    root = Node.root(3)
+    assert [child.depth for child in root.children((1, 2), tours=False)] == [1, 1]
 
 
 def clustered(n: int, seed: int) -> np.ndarray:
