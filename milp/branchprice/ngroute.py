@@ -531,14 +531,52 @@ def _dominated_on_arrival(vals, labs, filled, value, parity, bits, penalties):  
 
 
 @njit(cache=True)
+def _heap_push(keys, labels, size, key, label):  # pragma: no cover - compiled
+    """Push ``(key, label)`` on the binary min-heap held in ``keys[:size]``,
+    ``labels[:size]`` (room for one more assumed); the new size."""
+    pos = size
+    while pos > 0:
+        up = (pos - 1) // 2
+        if keys[up] <= key:
+            break
+        keys[pos], labels[pos] = keys[up], labels[up]
+        pos = up
+    keys[pos], labels[pos] = key, label
+    return size + 1
+
+
+@njit(cache=True)
+def _heap_pop(keys, labels, size):  # pragma: no cover - compiled
+    """Pop the label of the least key from the heap of :func:`_heap_push` (``size > 0``):
+    ``(label, new size)``; the last entry sifts down from the root."""
+    top = labels[0]
+    size -= 1
+    if size > 0:
+        key, label = keys[size], labels[size]
+        pos = 0
+        while True:
+            child = 2 * pos + 1
+            if child >= size:
+                break
+            if child + 1 < size and keys[child + 1] < keys[child]:
+                child += 1
+            if keys[child] >= key:
+                break
+            keys[pos], labels[pos] = keys[child], labels[child]
+            pos = child
+        keys[pos], labels[pos] = key, label
+    return top, size
+
+
+@njit(cache=True)
 def _label(arcs, prizes, budget, threshold, exact, ends_at):  # pragma: no cover - compiled
     """Forward labelling (module docstring). Returns ``(best, ends, parents, nodes,
     work, complete)``: ``ends`` rows ``(label, prize)`` of routes above ``threshold``.
 
     The arguments are grouped (:class:`Arcs`, :class:`Prizes`, :class:`Budget`) and unpacked
-    here; the hot loops stay in this one function (measured: with the extension, the
-    dominance scan, the heap and the insertion as separate compiled functions, even
-    inlined by numba, the labelling was 5-30% slower).
+    here; the heap is :func:`_heap_push` and :func:`_heap_pop`, the extension loop, the
+    dominance scan and the insertion stay in this function (``milp/README.md``: as
+    functions they cost more).
 
     Labels are created on extension and tested for dominance when they leave the heap:
     every label at the same node with a smaller length has left it before, so the test
@@ -586,22 +624,7 @@ def _label(arcs, prizes, budget, threshold, exact, ends_at):  # pragma: no cover
             if now >= ends_at:
                 complete = False
                 break
-        lab = hval[0]
-        hsize -= 1
-        if hsize > 0:  # sift the last entry down from the root
-            key, v = hkey[hsize], hval[hsize]
-            pos = 0
-            while True:
-                child = 2 * pos + 1
-                if child >= hsize:
-                    break
-                if child + 1 < hsize and hkey[child + 1] < hkey[child]:
-                    child += 1
-                if hkey[child] >= key:
-                    break
-                hkey[pos], hval[pos] = hkey[child], hval[child]
-                pos = child
-            hkey[pos], hval[pos] = key, v
+        lab, hsize = _heap_pop(hkey, hval, hsize)
         i, li, vi = node[lab], length[lab], value[lab]
         if lab > 0:
             if vi + _completion(table, delta, G, U, li, i) <= best:
@@ -675,15 +698,7 @@ def _label(arcs, prizes, budget, threshold, exact, ends_at):  # pragma: no cover
             memory[new, word] |= bit
             if exact or not _dominated_on_arrival(done_value[j], done[j], fill[j], nv, parity,
                                                   parity[new], penalties):
-                pos = hsize  # sift up
-                hsize += 1
-                while pos > 0:
-                    up = (pos - 1) // 2
-                    if hkey[up] <= nl:
-                        break
-                    hkey[pos], hval[pos] = hkey[up], hval[up]
-                    pos = up
-                hkey[pos], hval[pos] = nl, new
+                hsize = _heap_push(hkey, hval, hsize, nl, new)
             elif not ends_here:
                 count -= 1  # dropped before it is stored
                 continue
@@ -749,4 +764,5 @@ def enlarged(a, size):  # pragma: no cover - compiled
 #: The compiled functions only :func:`cut_coefficients` calls: a search without cuts never compiles them.
 CUT_KERNELS = (_cut_counts,)
 #: Every compiled (numba) function of this module, for :mod:`milp.branchprice.compiling` to check and compile.
-KERNELS = (completion_table, _subset, _completion, _penalty, _dominated_on_arrival, _label, enlarged, *CUT_KERNELS)
+KERNELS = (completion_table, _subset, _completion, _penalty, _dominated_on_arrival, _heap_push, _heap_pop, _label, enlarged,
+           *CUT_KERNELS)

@@ -140,6 +140,24 @@ def test_most_valuable_is_the_head_of_a_stable_sort(values, count):
     assert np.array_equal(ngroute.most_valuable(values, count), expected)
 
 
+@given(st.lists(st.tuples(st.booleans(), st.floats(0, 100)), max_size=60))
+def test_heap_pops_labels_by_increasing_key(steps):
+    """Pushes (True) and pops (False) in any order: each pop returns a label of the least
+    key pushed and not yet popped (ties in any order), as a sorted list would."""
+    keys, labels = np.empty(len(steps)), np.empty(len(steps), np.int64)
+    size, waiting = 0, []
+    for label, (push, key) in enumerate(steps):
+        if push:
+            size = ngroute._heap_push(keys, labels, size, key, label)
+            waiting.append((key, label))
+        elif size:
+            popped, size = ngroute._heap_pop(keys, labels, size)
+            least = min(k for k, _ in waiting)
+            assert (least, popped) in waiting
+            waiting.remove((least, popped))
+        assert size == len(waiting)
+
+
 def test_forbid_remembers_the_kpoi_of_a_forbidden_cycle():
     """Neighbourhoods of size 2 on the line above, remembered from {i} (DSSR): route 1, 2, 1
     revisits 1 while 1 is in 2's neighbourhood (a cycle the ng-relaxation forbids), so 2
