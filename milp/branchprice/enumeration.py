@@ -232,6 +232,15 @@ def _row_hash(row, h):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def _same_row(a, b):  # pragma: no cover - compiled
+    """Whether the bit rows ``a`` and ``b`` hold the same set (a hash table's key test)."""
+    for w in range(a.shape[0]):
+        if a[w] != b[w]:
+            return False
+    return True
+
+
+@njit(cache=True)
 def _table_size(n):  # pragma: no cover - compiled
     """Slots of an open-addressing table for ``n`` keys (a power of two, at least ``2 n``)."""
     size = 1
@@ -271,12 +280,7 @@ def _extension_lengths(family, lengths, m1, ends_at):  # pragma: no cover - comp
             pos = _row_hash(row, np.uint64(0)) & mask
             while slots[pos] != -1:
                 t = slots[pos]
-                same = True
-                for u in range(row.shape[0]):
-                    if family[t, u] != row[u]:
-                        same = False
-                        break
-                if same:
+                if _same_row(family[t], row):
                     if lengths[t] < extended[s]:
                         extended[s] = lengths[t]
                     break
@@ -289,7 +293,7 @@ def _first_shortest(sets, last, length):  # pragma: no cover - compiled
     """Indices of the shortest state of each (set, last KPOI) pair, the first of equally
     short ones, by first occurrence: one pass over an open-addressing hash table (a sort
     of the states took ten times as long, 10.5 s for 8.7 million)."""
-    n, words = last.shape[0], sets.shape[1]
+    n = last.shape[0]
     size = _table_size(n)
     mask = np.uint64(size - 1)
     slots = np.full(size, -1, np.int64)  # a pair's rank in keep, or -1
@@ -305,12 +309,7 @@ def _first_shortest(sets, last, length):  # pragma: no cover - compiled
                 kept += 1
                 break
             r = keep[rank]
-            same = last[r] == last[s]
-            w = 0
-            while same and w < words:
-                same = sets[r, w] == sets[s, w]
-                w += 1
-            if same:
+            if last[r] == last[s] and _same_row(sets[r], sets[s]):
                 if length[s] < length[r]:
                     keep[rank] = s
                 break
@@ -365,4 +364,4 @@ def _extend(sets, last, length, gained, D, back, prize, allowed, budget, thresho
 
 
 #: Every compiled (numba) function of this module, for :mod:`milp.branchprice.compiling` to check and compile.
-KERNELS = (_extend, _first_shortest, _row_hash, _table_size, _extension_lengths)
+KERNELS = (_extend, _first_shortest, _row_hash, _same_row, _table_size, _extension_lengths)

@@ -57,7 +57,8 @@ def test_the_rarely_used_functions_are_the_cut_and_enumeration_ones(monkeypatch)
     asked = []
     monkeypatch.setattr(compiling, "compiled", lambda function: asked.append(function) or True)
     compiling.compile_rarely_used()
-    assert [f.__name__ for f in asked] == ["violated_triples", "_cut_counts", "_extend", "_first_shortest", "_row_hash", "_table_size", "_extension_lengths"]
+    assert [f.__name__ for f in asked] == ["violated_triples", "_cut_counts", "_extend", "_first_shortest", "_row_hash", "_same_row", "_table_size",
+                                                   "_extension_lengths"]
 
 
 def test_the_first_writable_folder_is_chosen(tmp_path):
