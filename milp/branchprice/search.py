@@ -129,6 +129,7 @@ from milp.branchprice.tree import (
 )
 from milp.core.highs import make_lp, new_highs
 from milp.core.merge import Merged, checked_start, merge_zero_distances, model_result
+from milp.core.progress import Every
 from milp.core.result import MilpResult
 from milp.core.routes import (
     ABS_TOL,
@@ -261,6 +262,7 @@ class BranchAndPrice:
         self.enumeration_gap = ENUMERATION_GAP  # enumerate at nodes with a smaller LP gap (all decisions)
         self.makespan_bound = 0.0  # a lower bound on the least makespan (for min_makespan)
         self.prize_bound_raised = 0  # bounds raised by certificates of pricings not exact
+        self.progress = Every(log)  # column generation's progress lines (--log)
 
     @contextmanager
     def until(self, ends_at: float | None) -> Iterator[None]:
@@ -344,7 +346,9 @@ class BranchAndPrice:
         bound rounds up to the LP value's integer or, with ``converge``, when it reaches
         the LP value (the duals then price out exactly). Past the time limit it solves no
         master LP: it returns ``known`` (on entry) or the last master's outcome (after a
-        pricing), so that a call ends at its limit and not one master solve later."""
+        pricing), so that a call ends at its limit and not one master solve later. With
+        logging on, a line every :data:`milp.core.progress.PROGRESS_SECONDS`: the master's
+        value and the certified bound, the pricing rounds, the columns and cuts."""
         if self.out_of_time():
             return LpOutcome(known.bound, known.value, columns, known.x, Why.TIME_LIMIT, None, known.duals)
         h = self._master(columns)
@@ -355,6 +359,7 @@ class BranchAndPrice:
         # the node and is reported when above ``bound``, but only exact certificates tell
         # when the LP is solved
         weak, weak_duals = -math.inf, None
+        rounds = 0
 
         def outcome(why: Why, master: highspy.Highs | None = None) -> LpOutcome:
             if weak > bound:
@@ -369,6 +374,11 @@ class BranchAndPrice:
             # (pi, sigma) >= 0: covering duals, and cut duals with their sign turned
             duals = np.concatenate((np.maximum(row_dual[:self.m], 0.0), np.maximum(-row_dual[self.m:], 0.0)))
             x = np.asarray(h.getSolution().col_value, dtype=np.float64)
+            if self.progress.due():
+                log.info("column generation, node %d: LP %.6g routes, bound %.6g, after %d pricing rounds "
+                         "(%d columns, %d cuts)", self.nodes, value, max(bound, weak, 0.0), rounds,
+                         len(columns), len(self.cuts))
+            rounds += 1
             if ((rounded_up(bound) >= rounded_up(value) and not converge)
                     or bound >= value * (1 - LP_SOLVED)):
                 return outcome(Why.SOLVED, h)

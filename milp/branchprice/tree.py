@@ -21,11 +21,12 @@ from dataclasses import dataclass
 from typing import Protocol, TypeVar
 
 from milp.branchprice.columns import Node
+from milp.core.progress import Every
 
 log = logging.getLogger(__name__)
 
 __all__ = ["Decision", "Search", "NodeOutcome", "Why", "Ending", "Settled", "Improve", "rounded_up", "ROUND",
-           "POOL_GROWTH", "PROGRESS_SECONDS"]
+           "POOL_GROWTH"]
 
 #: A heuristic asked for routes (KPOIs ``1..n``) with at most the given number of routes
 #: within the deadline, or ``None``; its second argument is the seconds the root took, a
@@ -38,8 +39,6 @@ ROUND = 1e-6
 #: this many times since it last ran (enumerated families add many routes within the
 #: budget; a covering of them is a solution the tree may reach only much later).
 POOL_GROWTH = 2.0
-#: Seconds between two progress lines of a running tree (``--log``).
-PROGRESS_SECONDS = 10.0
 
 
 class Why(enum.StrEnum):
@@ -155,12 +154,13 @@ class Decision:
         self.unresolved = False  # a node was left open (pricing stalled, nothing to branch on)
         self.pool_tried = 0  # the pool's size when the integer master last ran
         self.began = time.perf_counter()  # the root's seconds, for improve, count from here
-        self.reported = self.began  # when the last progress line was written
+        self.progress = Every(log)
         self.closed = 0  # nodes closed by their bound or answered by enumeration
 
     def run(self) -> Ending:
         """Search the tree; how it ended. With logging on, a line every
-        :data:`PROGRESS_SECONDS`: nodes solved and closed, nodes open, the deepest open one."""
+        :data:`milp.core.progress.PROGRESS_SECONDS`: nodes solved and closed, nodes open, the
+        deepest open one."""
         stack = [Node.root(self.search.m)]
         while stack:
             if self.search.out_of_time():
@@ -173,11 +173,9 @@ class Decision:
         return Ending.UNKNOWN if self.unresolved else Ending.EXHAUSTED
 
     def _report(self, stack: list[Node]) -> None:
-        """The progress line, when :data:`PROGRESS_SECONDS` have passed since the last."""
-        now = time.perf_counter()
-        if now - self.reported < PROGRESS_SECONDS or not log.isEnabledFor(logging.INFO):
+        """The progress line, when one is due."""
+        if not self.progress.due():
             return
-        self.reported = now
         depth = max((node.depth for node in stack), default=0)
         log.info("branch-and-price: %d nodes solved, %d closed, %d open (deepest %d branchings), "
                  "looking for %d routes", self.search.nodes, self.closed, len(stack), depth, self.target)

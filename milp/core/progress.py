@@ -17,13 +17,33 @@ import sys
 import time
 from typing import TextIO
 
-__all__ = ["log_to_stderr", "logging_enabled", "entrant_environment", "log_as_entrant"]
+__all__ = ["log_to_stderr", "logging_enabled", "entrant_environment", "log_as_entrant", "Every",
+           "PROGRESS_SECONDS"]
 
 #: Environment variables an entrant reads: the parent's log file descriptor, its clock and
 #: the entrant's name.
 FD_VARIABLE, EPOCH_VARIABLE, NAME_VARIABLE = "MILP_LOG_FD", "MILP_LOG_EPOCH", "MILP_LOG_NAME"
 #: The loggers :func:`log_to_stderr` opens by default.
 LOGGERS = ("parcover", "milp")
+#: Seconds between two progress lines of a long loop (a branching tree, a column generation).
+PROGRESS_SECONDS = 10.0
+
+
+class Every:
+    """When the next progress line of a long loop is due: :data:`PROGRESS_SECONDS` after
+    the loop began or after the last line, and only when ``logger`` prints INFO lines."""
+
+    def __init__(self, logger: logging.Logger) -> None:
+        self.logger = logger
+        self.last = time.perf_counter()
+
+    def due(self) -> bool:
+        """Whether a line is due now (the next one is then counted from now)."""
+        now = time.perf_counter()
+        if now - self.last < PROGRESS_SECONDS or not self.logger.isEnabledFor(logging.INFO):
+            return False
+        self.last = now
+        return True
 
 
 class _ElapsedFormatter(logging.Formatter):

@@ -25,6 +25,7 @@ from milp.branchprice.columns import Node
 from milp.branchprice import makespan as makespan_search
 from milp.branchprice import search as branchprice
 from milp.branchprice.ngroute import MAX_CUTS, Pricing
+from milp.core import progress
 from milp.core.routes import least_makespan
 
 
@@ -212,8 +213,9 @@ def test_integer_master_below_the_root_keeps_the_optimum(monkeypatch):
 def test_a_branching_tree_logs_its_progress(monkeypatch, caplog):
     """With logging on, the tree writes its root LP value and a line of nodes solved,
     closed and open every PROGRESS_SECONDS (0 here: after every node), and the depth of
-    the deepest open node counts the branchings."""
-    monkeypatch.setattr(tree, "PROGRESS_SECONDS", 0.0)
+    the deepest open node counts the branchings; column generation writes its master's
+    value above its certified bound, and its pricing rounds."""
+    monkeypatch.setattr(progress, "PROGRESS_SECONDS", 0.0)
     monkeypatch.setattr(branchprice, "ENUMERATION_ROUTES", (0, -1))  # the tree, not enumeration
     D = euclidean(16, 1)  # branches (test_strong_branching_reaches_setparts_optimum)
     with caplog.at_level(logging.INFO, logger="milp"):
@@ -221,11 +223,17 @@ def test_a_branching_tree_logs_its_progress(monkeypatch, caplog):
     messages = [record.getMessage() for record in caplog.records]
     assert any(re.search(r"root LP needs at least \d+ routes \(\d+ allowed; LP bound [\d.]+, \w", m)
                for m in messages)
-    progress = [re.search(r"(\d+) nodes solved, (\d+) closed, (\d+) open \(deepest (\d+) branchings\)", m)
-                for m in messages]
-    progress = [tuple(map(int, p.groups())) for p in progress if p]
-    assert progress and any(depth > 0 for *_, depth in progress)
-    assert all(closed <= solved for solved, closed, _, _ in progress)
+    nodes = [re.search(r"(\d+) nodes solved, (\d+) closed, (\d+) open \(deepest (\d+) branchings\)", m)
+             for m in messages]
+    nodes = [tuple(map(int, p.groups())) for p in nodes if p]
+    assert nodes and any(depth > 0 for *_, depth in nodes)
+    assert all(closed <= solved for solved, closed, _, _ in nodes)
+    generation = [re.search(r"column generation, node (\d+): LP ([\d.]+) routes, bound ([\d.]+), "
+                            r"after (\d+) pricing rounds \((\d+) columns, (\d+) cuts\)", m) for m in messages]
+    generation = [g.groups() for g in generation if g]
+    assert {int(g[0]) for g in generation} >= {1, 2}  # the root and the nodes below
+    assert all(float(bound) <= float(lp) * (1 + 1e-6) for _, lp, bound, *_ in generation)
+    assert any(int(rounds) > 0 for _, _, _, rounds, _, _ in generation)
     root = Node.root(3)
     assert [child.depth for child in root.children((1, 2), tours=False)] == [1, 1]
 
