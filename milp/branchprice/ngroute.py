@@ -100,6 +100,7 @@ saves its push and pop (the exact dominance, with memories, rarely holds that ea
 
 from __future__ import annotations
 
+import logging
 import math
 import time
 from dataclasses import dataclass
@@ -109,7 +110,10 @@ import numpy as np
 from numba import objmode
 
 from milp.core.jit import compiled_layout, njit
+from milp.core.progress import Every
 from milp.core.timelimit import stop_requested
+
+log = logging.getLogger(__name__)
 
 __all__ = ["Pricing", "PricingResult", "cut_coefficients", "ng_neighbourhoods", "NG_SIZE", "MAX_GRID", "MAX_CUTS",
            "KERNELS", "CUT_KERNELS"]
@@ -282,7 +286,7 @@ class Pricing:
             if table is None:  # the clock stopped it
                 return PricingResult(float(threshold), [], False, 0)
         prize_bound = walk_bound(self.D, prize, allowed, table, delta, G, budget, self.back, can_end)
-        total = 0
+        total, labellings, progress = 0, 0, Every(log)
         while True:
             arcs = Arcs(self.D, self.back, allowed, can_end, self.remembered if exact else self.neighbourhoods)
             best, ends, parents, nodes, work, complete = _label(
@@ -295,6 +299,10 @@ class Pricing:
                 return PricingResult(float(best), routes, False, int(total), prize_bound)
             if complete:  # a relaxation of the elementary routes, labelled to the end
                 prize_bound = min(prize_bound, float(best))
+            labellings += 1
+            if progress.due():
+                log.info("exact pricing: %d labellings so far (ng-memories growing), best route prize %.6g "
+                         "(at most 1: no column left), %.0f M units of work", labellings, best, total / 1e6)
             forbidden = [self._forbid(r) for r in routes]
             if not routes or not forbidden[0] or not complete:
                 # the best route is an ng-route: its prize is the best of every ng-route

@@ -214,7 +214,7 @@ def test_a_branching_tree_logs_its_progress(monkeypatch, caplog):
     """With logging on, the tree writes its root LP value and a line of nodes solved,
     closed and open every PROGRESS_SECONDS (0 here: after every node), and the depth of
     the deepest open node counts the branchings; column generation writes its master's
-    value above its certified bound, and its pricing rounds."""
+    value above its certified bound, and its pricing rounds; an exact pricing, its labellings."""
     monkeypatch.setattr(progress, "PROGRESS_SECONDS", 0.0)
     monkeypatch.setattr(branchprice, "ENUMERATION_ROUTES", (0, -1))  # the tree, not enumeration
     D = euclidean(16, 1)  # branches (test_strong_branching_reaches_setparts_optimum)
@@ -234,6 +234,7 @@ def test_a_branching_tree_logs_its_progress(monkeypatch, caplog):
     assert {int(g[0]) for g in generation} >= {1, 2}  # the root and the nodes below
     assert all(float(bound) <= float(lp) * (1 + 1e-6) for _, lp, bound, *_ in generation)
     assert any(int(rounds) > 0 for _, _, _, rounds, _, _ in generation)
+    assert any(re.search(r"exact pricing: \d+ labellings so far .* best route prize [\d.]+", m) for m in messages)
     root = Node.root(3)
     assert [child.depth for child in root.children((1, 2), tours=False)] == [1, 1]
 
