@@ -539,6 +539,17 @@ def _dominated_on_arrival(vals, labs, filled, value, parity, bits, penalties):  
 
 
 @njit(cache=True)
+def _insert(vals, labs, filled, k, value, label):  # pragma: no cover - compiled
+    """Insert ``(value, label)`` at position ``k`` of the ``filled`` entries of ``vals``,
+    ``labs`` (room for one more assumed), shifting those from ``k`` on by one; the new
+    count. At ``k``, the first with a smaller prize, the prizes stay decreasing."""
+    for q in range(filled, k, -1):
+        vals[q], labs[q] = vals[q - 1], labs[q - 1]
+    vals[k], labs[k] = value, label
+    return filled + 1
+
+
+@njit(cache=True)
 def _heap_push(keys, labels, size, key, label):  # pragma: no cover - compiled
     """Push ``(key, label)`` on the binary min-heap held in ``keys[:size]``,
     ``labels[:size]`` (room for one more assumed); the new size."""
@@ -582,9 +593,9 @@ def _label(arcs, prizes, budget, threshold, exact, ends_at):  # pragma: no cover
     work, complete)``: ``ends`` rows ``(label, prize)`` of routes above ``threshold``.
 
     The arguments are grouped (:class:`Arcs`, :class:`Prizes`, :class:`Budget`) and unpacked
-    here; the heap is :func:`_heap_push` and :func:`_heap_pop`, the extension loop, the
-    dominance scan and the insertion stay in this function (``milp/README.md``: as
-    functions they cost more).
+    here; the heap is :func:`_heap_push` and :func:`_heap_pop`, the insertion of an
+    extended label :func:`_insert`; the extension loop and the dominance scan stay in this
+    function (``milp/README.md``: as functions they cost more).
 
     Labels are created on extension and tested for dominance when they leave the heap:
     every label at the same node with a smaller length has left it before, so the test
@@ -656,15 +667,10 @@ def _label(arcs, prizes, budget, threshold, exact, ends_at):  # pragma: no cover
                 k += 1
             if dominated:
                 continue
-            # insert at position k (the first with a smaller prize)
             if fill[i] == labs.shape[0]:
                 done[i] = enlarged(labs, 2 * fill[i])
                 done_value[i] = enlarged(vals, 2 * fill[i])
-                vals, labs = done_value[i], done[i]
-            for q in range(fill[i], k, -1):
-                vals[q], labs[q] = vals[q - 1], labs[q - 1]
-            vals[k], labs[k] = vi, lab
-            fill[i] += 1
+            fill[i] = _insert(done_value[i], done[i], fill[i], k, vi, lab)
             work += fill[i] - k
         work += m1  # the extension loop below looks at every node
         for j in range(1, m1):
@@ -772,5 +778,6 @@ def enlarged(a, size):  # pragma: no cover - compiled
 #: The compiled functions only :func:`cut_coefficients` calls: a search without cuts never compiles them.
 CUT_KERNELS = (_cut_counts,)
 #: Every compiled (numba) function of this module, for :mod:`milp.branchprice.compiling` to check and compile.
-KERNELS = (completion_table, _subset, _completion, _penalty, _dominated_on_arrival, _heap_push, _heap_pop, _label, enlarged,
+KERNELS = (completion_table, _subset, _completion, _penalty, _dominated_on_arrival, _insert, _heap_push, _heap_pop, _label,
+           enlarged,
            *CUT_KERNELS)

@@ -158,6 +158,21 @@ def test_heap_pops_labels_by_increasing_key(steps):
         assert size == len(waiting)
 
 
+@given(st.lists(st.floats(0, 10), max_size=40))
+def test_insert_keeps_the_labels_by_decreasing_prize(prizes):
+    """Each label goes in before the first with a smaller prize (as the labelling inserts
+    an extended label after those it was compared with): the prizes stay decreasing, ties
+    in arrival order, as a stable sort by decreasing prize."""
+    vals, labs = np.empty(len(prizes) + 1), np.empty(len(prizes) + 1, np.int64)
+    filled = 0
+    for label, prize in enumerate(prizes):
+        k = int(np.sum(vals[:filled] >= prize))
+        filled = ngroute._insert(vals, labs, filled, k, prize, label)
+    expected = np.argsort(-np.array(prizes), kind="stable")
+    assert filled == len(prizes)
+    assert labs[:filled].tolist() == expected.tolist()
+
+
 def test_forbid_remembers_the_kpoi_of_a_forbidden_cycle():
     """Neighbourhoods of size 2 on the line above, remembered from {i} (DSSR): route 1, 2, 1
     revisits 1 while 1 is in 2's neighbourhood (a cycle the ng-relaxation forbids), so 2
