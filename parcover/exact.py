@@ -79,22 +79,13 @@ WARM_ROUNDS = {"makespan": 200, "robots": 20}
 #: For the fewest robots up to this many KPOIs, ``branchprice`` starts from ``best``'s
 #: construction alone and runs ``best``'s rounds only when its root bound does not prove
 #: that construction (:func:`milp.branchprice.min_robots`' ``improve``): there the root is
-#: cheaper than the rounds. Measured (n = 20-50, seeds 1-3 and 11-13, paths and tours,
-#: 1.0 and 1.2 x the least makespan): at n = 20-30 1.6x and 2.1x faster in all (3.0 ->
-#: 1.9 s, 3.2 -> 1.5 s; 5 of 48 questions slower, by at most 0.05 s); at n = 40-50 a
-#: wash (17.4 -> 16.6 s, 27.2 -> 29.7 s), where long tours make a root without a good
-#: incumbent dear (n = 50 seed 11 tours at 1.2 x: 1.3 -> 5.2 s).
+#: cheaper than the rounds; above it, long tours make a root without a good incumbent
+#: dear (measured: ``milp/README.md``, branch-and-price).
 ROOT_FIRST_MAX = 30
 #: Above it, when the root's bound does not prove the warm start, ``best`` looks for
 #: routes meeting that bound for as long as the root took beyond the warm start, at most
-#: this share of the time left (:func:`balanced_search`). Measured (2026-11-27, a machine
-#: running two benchmarks): 100 KPOIs, hospital map seed 1, paths within ``c_max``: the
-#: root (bound 9) at 48 s, ``best`` then found 9 robots in 30 s: optimal in 79-85 s, where
-#: the tree had not found 9 in the 70 s it had (10 robots, bound 9 at 120 s); sal2 seed 2
-#: unchanged (optimal 13 in 18 s). n = 50, seeds 1-3 and 11-13, paths and tours, 1.0 and
-#: 1.2 x the least makespan, 10 s (24 questions): 24/24 proven, 38.1 s against 38.5 s (one
-#: after the other); with the root's whole time instead of what it took beyond the warm
-#: start, 41.4 s.
+#: this share of the time left (:func:`balanced_search`): at 100 KPOIs the tree may not
+#: reach routes that a local search aimed at the root's bound finds (``milp/README.md``).
 IMPROVE_SHARE = 0.5
 #: ``exact`` runs ``setpart`` alone up to this many KPOIs, per objective. For the fewest
 #: robots ``branchprice`` (starting from the root, :data:`ROOT_FIRST_MAX`) overtakes it
