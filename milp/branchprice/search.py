@@ -153,10 +153,6 @@ MAX_KPOIS = BRANCHPRICE_MAX_KPOIS
 CERT_TOL = 1e-9
 #: Weight of the stability center in the pricing duals.
 SMOOTHING = 0.5
-#: Most routes a heuristic pricing returns, and an exact one: the exact pricing also looks
-#: for the cycles its ng-neighbourhoods forbid in every route it returns, and remembers
-#: them (decremental state-space relaxation), so the more routes, the fewer labellings.
-HEURISTIC_ROUTES, EXACT_ROUTES = 60, 1000
 #: Pricings that are not exact certify Farley's bound too, with their certified bound on
 #: every elementary route's prize (:attr:`milp.branchprice.ngroute.PricingResult.prize_bound`:
 #: the completion table's walk bound, or a complete DSSR labelling's best when the clock
@@ -294,7 +290,6 @@ class BranchAndPrice:
         """One pricing at ``node``, stopped by the search's time limit."""
         return self.pricing.price(prize, budget, allowed=node.allowed, can_end=node.allowed[:, 0],
                                   exact=exact, threshold=threshold,
-                                  max_routes=EXACT_ROUTES if exact else HEURISTIC_ROUTES,
                                   ends_at=math.inf if self.ends_at is None else self.ends_at,
                                   cut_bits=cut_bits, cut_memory=cut_memory, penalties=penalties)
 
