@@ -4,10 +4,8 @@ Instances eil51, berlin52, eil76 and rat99 (TSPLIB, ``instances/tsplib/``,
 read with exact Euclidean distances, node 1 the start) with m = 2, 3, 5, 7 tours (Necula,
 Breaban and Raschip, ICTAI 2015). Each cell gets 10 minutes:
 
-- our value and the exact method's bound: ``parcover.solve(..., method="best:until=limit")``
-  for :data:`BEST_SECONDS` (the whole time: without ``until=limit`` ``best`` stops at
-  convergence, after 2-20 s here, and the run of 2026-11-28 lost rat99 m = 2, proven
-  with the 60 s start before), then ``parcover.solve(..., method="exact")`` from its tours (at
+- our value and the exact method's bound: ``parcover.solve(..., method=BEST)`` (:data:`BEST`) for
+  :data:`BEST_SECONDS`, then ``parcover.solve(..., method="exact")`` from its tours (at
   these sizes branch-and-price, :mod:`milp.branchprice`, raced against branch-and-cut,
   :mod:`milp.branchcut`, with 2 and 3 tours) with :data:`EXACT_SECONDS`
   (exact's own warm start, 200 rounds of ``best``, is far weaker on routes of 25-50
@@ -42,6 +40,9 @@ ROBOTS = (2, 3, 5, 7)
 QUICK_CELLS = (("eil51", 5),)
 #: Seconds per cell for ``best``, the exact method and the column-generation bound (full
 #: run): 10 minutes a cell in all.
+#: The warm start's method: ``best`` spending all of :data:`BEST_SECONDS` (plain ``best``
+#: stops at convergence, after 2-20 s on these cells, a weaker start: milp/README.md).
+BEST = "best:until=limit"
 BEST_SECONDS, EXACT_SECONDS, BOUND_SECONDS = 60.0, 420.0, 120.0
 QUICK_BEST_SECONDS, QUICK_EXACT_SECONDS, QUICK_BOUND_SECONDS = 1.0, 3.0, 3.0
 #: Relative tolerance for "proven optimal".
@@ -66,7 +67,7 @@ def solve_cell(name: str, m: int, best_seconds: float, exact_seconds: float, bou
     inst = read_instance(ROOT / "instances" / "tsplib" / f"{name}.tsp")
     D = np.array(inst.distances)
     began = time.perf_counter()
-    start = parcover.solve(inst, routes="tours", robots=m, method="best:until=limit", time_limit=best_seconds)
+    start = parcover.solve(inst, routes="tours", robots=m, method=BEST, time_limit=best_seconds)
     best_time = time.perf_counter() - began
     result = parcover.solve(inst, routes="tours", robots=m, method="exact", time_limit=exact_seconds,
                             warm_start=start.routes)
@@ -135,7 +136,7 @@ def run(config: Config) -> Section:
         "Min-max multiple TSP with tours (Necula et al. 2015 cells: TSPLIB instances with exact "
         "Euclidean distances, node 1 the start). `value` and `exact bound`: "
         f"`parcover.solve(method=\"exact\")` with {exact_s:g} s from the tours of "
-        f"`parcover.solve(method=\"best:until=limit\")` with {best_s:g} s, all of them spent (`model`: the method that "
+        f"`parcover.solve(method=\"{BEST}\")` with {best_s:g} s, all of them spent (`model`: the method that "
         "answered: branch-and-price, or with 2 and 3 tours whichever of branch-and-price and "
         "branch-and-cut (`milp.branchcut`, raced on the two cores) proved first); `bound`: our "
         "certified lower bound, the largest of `2 c_max`, the `tree bound` (the spanning-tree and "
