@@ -38,11 +38,11 @@ from parcover.io import read_instance
 INSTANCES = ("eil51", "berlin52", "eil76", "rat99")
 ROBOTS = (2, 3, 5, 7)
 QUICK_CELLS = (("eil51", 5),)
-#: Seconds per cell for ``best``, the exact method and the column-generation bound (full
-#: run): 10 minutes a cell in all.
 #: The warm start's method: ``best`` spending all of :data:`BEST_SECONDS` (plain ``best``
 #: stops at convergence, after 2-20 s on these cells, a weaker start: milp/README.md).
 BEST = "best:until=limit"
+#: Seconds per cell for ``best``, the exact method and the column-generation bound (full
+#: run): 10 minutes a cell in all.
 BEST_SECONDS, EXACT_SECONDS, BOUND_SECONDS = 60.0, 420.0, 120.0
 QUICK_BEST_SECONDS, QUICK_EXACT_SECONDS, QUICK_BOUND_SECONDS = 1.0, 3.0, 3.0
 #: Relative tolerance for "proven optimal".
