@@ -8,8 +8,9 @@ tolerance of every exact method here), and so does a root answered by enumeratio
 (its least makespan is the optimum). A lower bound for an unproven answer comes from
 bisection on the root LP bound (:math:`\lceil z(U) \rceil > k` proves :math:`U` too
 small), computed first with a share of the time limit; when the decisions just below
-:math:`Z` do not end, what is left of the limit goes to decisions at budgets between the
-bound and :math:`Z` (a closed tree at :math:`U` raises the bound to :math:`U`).
+:math:`Z` have not ended with the same share of the limit left, that share goes to
+decisions at budgets between the bound and :math:`Z` (a closed tree at :math:`U` raises
+the bound to :math:`U`).
 
 The decisions are those of :class:`milp.branchprice.search.BranchAndPrice` (one search, so
 its column pool, cuts and grown ng-memories serve every decision).
@@ -41,7 +42,8 @@ Proof = tuple[list[list[int]], float, str]
 __all__ = ["min_makespan", "BISECTION_SHARE", "BISECTION_SECONDS", "LP_BOUND_TOL", "NG_BISECTION_FIRST"]
 
 #: Share of a makespan time limit for the LP bisection (the bound reported if unproven),
-#: and the relative width at which the bisection stops.
+#: and for the bound again at the end of the limit (:meth:`_MakespanDecisions.raise_bound`);
+#: the relative width at which the bisection stops.
 BISECTION_SHARE, LP_BOUND_TOL = 0.25, 1e-4
 #: ... at most this many seconds: a share without a cap gave an unconverged bisection more
 #: time under a longer limit and the proof after it came later (n = 40, 3 tours,
@@ -90,16 +92,16 @@ def min_makespan(
         None if time_limit is None else began + min(BISECTION_SHARE * time_limit, BISECTION_SECONDS))
     search.makespan_bound = lower
     log.info("branch-and-price: root LP bound %.6g (gap %s)", lower, _gap(value, lower))
-    # a bisection cut short by its cap gets the last share of the limit back after the
-    # decisions (only the bound is left to gain there), so a long limit still buys the
-    # bound while the decisions run the same whatever the limit; what the resumed
-    # bisection leaves goes to decisions at budgets between the bound and the makespan
-    resume = cut_short and ends_at is not None
+    # the decisions just below the makespan stop a quarter of the limit early, whatever
+    # the bisection did: that quarter goes to the bound, the only thing left to gain
+    # there. A bisection cut short by its cap resumes first (so a long limit still buys
+    # the LP bound while the decisions run the same whatever the limit); what it leaves
+    # goes to decisions at budgets between the bound and the makespan.
     decisions = _MakespanDecisions(search, k, routes, value, lower)
-    with search.until(ends_at - BISECTION_SHARE * time_limit if resume else ends_at):
+    with search.until(None if ends_at is None else ends_at - BISECTION_SHARE * time_limit):
         proof = decisions.run()
     if proof is None and ends_at is not None and not search.out_of_time():
-        if resume:
+        if cut_short:
             decisions.lower = max(decisions.lower, _makespan_lp_bound(
                 search, k, decisions.lower, decisions.value, ends_at)[0])
             search.makespan_bound = decisions.lower

@@ -493,8 +493,9 @@ def test_a_makespan_bisection_cut_short_resumes_after_the_decisions(monkeypatch)
 
 @pytest.mark.parametrize("tours", [False, True])
 def test_decisions_between_bound_and_makespan_raise_the_bound_to_the_optimum(tours, monkeypatch):
-    """When the bisection proves nothing and the decision just below the warm start's
-    makespan waits out its time, the decisions between the bound and the makespan find
+    """When the bisection proves nothing (though it converged) and the decision just
+    below the warm start's makespan waits out its time (the limit less a quarter), the
+    decisions between the bound and the makespan find
     the optimum (setpart's, a second exact method) and raise the bound to within the
     bisection's tolerance of it, never past it: each closed tree is a proof."""
     D = euclidean(12, 4)
@@ -515,7 +516,7 @@ def test_decisions_between_bound_and_makespan_raise_the_bound_to_the_optimum(tou
 
     def no_bisection(search, k, lower, upper, ends_at):
         before.append(lower)
-        return lower, True
+        return lower, False
 
     monkeypatch.setattr(makespan_search, "_makespan_lp_bound", no_bisection)
     monkeypatch.setattr(branchprice.BranchAndPrice, "fewest_routes", stalled_at_the_makespan)
