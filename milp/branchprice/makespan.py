@@ -7,10 +7,7 @@ repeats); a proof that none exists proves :math:`Z` optimal (to the 1e-9 relativ
 tolerance of every exact method here), and so does a root answered by enumeration
 (its least makespan is the optimum). A lower bound for an unproven answer comes from
 bisection on the root LP bound (:math:`\lceil z(U) \rceil > k` proves :math:`U` too
-small), computed first with a share of the time limit; when the decisions just below
-:math:`Z` have not ended with the same share of the limit left, that share goes to
-decisions at budgets between the bound and :math:`Z` (a closed tree at :math:`U` raises
-the bound to :math:`U`).
+small), computed first with a share of the time limit.
 
 The decisions are those of :class:`milp.branchprice.search.BranchAndPrice` (one search, so
 its column pool, cuts and grown ng-memories serve every decision).
@@ -36,14 +33,10 @@ from milp.warmstart import nearest_neighbour_order, split_min_makespan
 
 log = logging.getLogger(__name__)
 
-#: A proven least makespan: its routes, the bound reported with it, and how it was proven.
-Proof = tuple[list[list[int]], float, str]
-
 __all__ = ["min_makespan", "BISECTION_SHARE", "BISECTION_SECONDS", "LP_BOUND_TOL", "NG_BISECTION_FIRST"]
 
 #: Share of a makespan time limit for the LP bisection (the bound reported if unproven),
-#: and for the bound again at the end of the limit (:meth:`_MakespanDecisions.raise_bound`);
-#: the relative width at which the bisection stops.
+#: and the relative width at which the bisection stops.
 BISECTION_SHARE, LP_BOUND_TOL = 0.25, 1e-4
 #: ... at most this many seconds: a share without a cap gave an unconverged bisection more
 #: time under a longer limit and the proof after it came later (n = 40, 3 tours,
@@ -92,23 +85,19 @@ def min_makespan(
         None if time_limit is None else began + min(BISECTION_SHARE * time_limit, BISECTION_SECONDS))
     search.makespan_bound = lower
     log.info("branch-and-price: root LP bound %.6g (gap %s)", lower, _gap(value, lower))
-    # the decisions just below the makespan stop a quarter of the limit early, whatever
-    # the bisection did: that quarter goes to the bound, the only thing left to gain
-    # there. A bisection cut short by its cap resumes first (so a long limit still buys
-    # the LP bound while the decisions run the same whatever the limit); what it leaves
-    # goes to decisions at budgets between the bound and the makespan.
-    decisions = _MakespanDecisions(search, k, routes, value, lower)
-    with search.until(None if ends_at is None else ends_at - BISECTION_SHARE * time_limit):
-        proof = decisions.run()
-    if proof is None and ends_at is not None and not search.out_of_time():
-        if cut_short:
-            decisions.lower = max(decisions.lower, _makespan_lp_bound(
-                search, k, decisions.lower, decisions.value, ends_at)[0])
-            search.makespan_bound = decisions.lower
-            log.info("branch-and-price: root LP bound resumed: %.6g (gap %s)", decisions.lower,
-                     _gap(decisions.value, decisions.lower))
-        proof = decisions.raise_bound()
-    routes, value, lower = decisions.routes, decisions.value, decisions.lower
+    # a bisection cut short by its cap gets the last share of the limit back after the
+    # decisions (only the bound is left to gain there), so a long limit still buys the
+    # bound while the decisions run the same whatever the limit; what the resumed
+    # bisection leaves goes back to the decisions
+    resume = cut_short and ends_at is not None
+    decisions = _MakespanDecisions(search, k, routes, value)
+    with search.until(ends_at - BISECTION_SHARE * time_limit if resume else ends_at):
+        proof = decisions.run(lower)
+    if proof is None and resume and decisions.timed_out and not search.out_of_time():
+        lower = search.makespan_bound = max(lower, _makespan_lp_bound(search, k, lower, decisions.value, ends_at)[0])
+        log.info("branch-and-price: root LP bound resumed: %.6g (gap %s)", lower, _gap(decisions.value, lower))
+        proof = decisions.run(lower)
+    routes, value = decisions.routes, decisions.value
     if proof is not None:
         found, bound, message = proof
         return model_result("optimal", merged, D, found, makespan(merged.D, found, tours=tours), bound,
@@ -118,64 +107,34 @@ def min_makespan(
 
 
 class _MakespanDecisions:
-    """The fewest-routes decisions of :func:`min_makespan` while the search's time lasts:
-    the best makespan found (``routes``, ``value``) and the proven bound ``lower``."""
+    """The fewest-routes decisions of :func:`min_makespan`, each below the best makespan
+    found (``routes``, ``value``), while the search's time lasts."""
 
-    def __init__(self, search: BranchAndPrice, k: int, routes: list[list[int]], value: float,
-                 lower: float) -> None:
-        self.search, self.k, self.routes, self.value, self.lower = search, k, routes, value, lower
+    def __init__(self, search: BranchAndPrice, k: int, routes: list[list[int]], value: float) -> None:
+        self.search, self.k, self.routes, self.value = search, k, routes, value
+        self.timed_out = False  # whether the last run stopped for the time, not at a node
 
-    def run(self) -> Proof | None:
-        """Decide just below the best makespan until a proof, the time limit or a node that
-        cannot be branched on: the proof, or None."""
-        while not self.search.out_of_time():
-            if self.value <= self.lower * (1 + STRICT):
+    def run(self, lower: float) -> tuple[list[list[int]], float, str] | None:
+        """Decide until a proof, the time limit or a node that cannot be branched on: the
+        proof as (routes, bound, message), or None."""
+        search = self.search
+        while not search.out_of_time():
+            if self.value <= lower * (1 + STRICT):
                 return self.routes, self.value, "lower bound reached"
-            outcome = self._decide(self.value * (1 - STRICT))
+            found, _, outcome = search.fewest_routes(self.value * (1 - STRICT), None, self.k, first=True)
             if outcome == Ending.LEAST:
-                return self.routes, self.lower, "least makespan over the routes enumerated at the root"
+                return found, lower, "least makespan over the routes enumerated at the root"
+            if outcome == Ending.FOUND:
+                self.routes, self.value = found, makespan(search.pricing.D, found, tours=search.tours)
+                log.info("branch-and-price: makespan %.6g, bound %.6g (gap %s), %d nodes", self.value, lower,
+                         _gap(self.value, lower), search.nodes)
+                continue
             if outcome == Ending.EXHAUSTED:
                 return self.routes, self.value, "no solution within (1 - 1e-9) x the makespan"
-            if outcome != Ending.FOUND:
-                return None
+            self.timed_out = search.out_of_time()
+            return None
+        self.timed_out = True
         return None
-
-    def raise_bound(self) -> Proof | None:
-        """Decide at budgets between the bound and the best makespan, for a better bound
-        where the decision just below the makespan did not end in its time: a closed tree
-        at budget :math:`U` proves every makespan within :math:`U` infeasible (the bound
-        rises to :math:`U`), a solution lowers the makespan. Each decision is at the
-        midpoint of the gap and gets half of the time left; one that does not end moves
-        the next budget halfway down to the bound. Returns a proof (a listing at the root,
-        or the gap closed to :data:`milp.branchprice.search.STRICT`), or None when the time
-        is spent or the gap is within :data:`LP_BOUND_TOL` of the makespan."""
-        search, share = self.search, 0.5
-        while not search.out_of_time() and self.value - self.lower > LP_BOUND_TOL * self.value:
-            budget = self.lower + share * (self.value - self.lower)
-            left = search.left()
-            with search.until(None if left is None else time.perf_counter() + 0.5 * left):
-                outcome = self._decide(budget)
-            if outcome == Ending.LEAST:
-                return self.routes, self.lower, "least makespan over the routes enumerated at the root"
-            if outcome == Ending.EXHAUSTED:
-                self.lower = search.makespan_bound = budget
-                log.info("branch-and-price: no solution within %.6g: bound %.6g (gap %s), %d nodes",
-                         budget, self.lower, _gap(self.value, self.lower), search.nodes)
-            elif outcome != Ending.FOUND:
-                share *= 0.5
-            if self.value <= self.lower * (1 + STRICT):
-                return self.routes, self.value, "lower bound reached"
-        return None
-
-    def _decide(self, budget: float) -> Ending:
-        """One fewest-routes decision: at most ``k`` routes within ``budget``? Keeps the
-        routes found (:attr:`~Ending.FOUND`, :attr:`~Ending.LEAST`) as the best."""
-        found, _, outcome = self.search.fewest_routes(budget, None, self.k, first=True)
-        if outcome in (Ending.FOUND, Ending.LEAST):
-            self.routes, self.value = found, makespan(self.search.pricing.D, found, tours=self.search.tours)
-            log.info("branch-and-price: makespan %.6g, bound %.6g (gap %s), %d nodes", self.value, self.lower,
-                     _gap(self.value, self.lower), self.search.nodes)
-        return outcome
 
 
 def _gap(value: float, bound: float) -> str:

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from milp_helpers import TOL, check_solution, euclidean, graph_metric, route_cost
+from milp_helpers import TOL, check_solution, euclidean, graph_metric
 
 from milp import setpart
 from milp.branchprice import colgen, ngroute, tree
@@ -453,12 +453,10 @@ def test_makespan_bound_takes_the_q_route_bound_when_the_ng_route_bisection_runs
 
 def test_a_makespan_bisection_cut_short_resumes_after_the_decisions(monkeypatch):
     """With its cap at (almost) 0 s the root LP bisection is cut short at once; the
-    decision just below the makespan (here: waiting out its time, as hard ones do) then
-    stops a quarter of the limit early, and the bisection resumes in that quarter: the
-    bound reported is at least the bisection's converged bound, not the trivial one it
-    started from. The time the resumed bisection leaves goes to decisions at budgets
-    between that bound and the makespan: the first at the midpoint, each after one that
-    did not end halfway down to the bound, the last until the limit."""
+    decisions (here: waiting out their time, as hard ones do) then stop a quarter of the
+    limit early, and the bisection resumes in that quarter: the bound reported is the
+    bisection's converged bound, not the trivial one it started from. The time the
+    resumed bisection leaves goes back to the decisions."""
     D = euclidean(12, 3)
     k, tours = 3, False
     start = [[1, 2, 3, 4], [5, 6, 7, 8], [9, 10, 11, 12]]
@@ -467,10 +465,8 @@ def test_a_makespan_bisection_cut_short_resumes_after_the_decisions(monkeypatch)
     full, _ = makespan_search._makespan_lp_bound(branchprice.BranchAndPrice(D, tours=tours, ends_at=None), k,
                                              lower, value, None)
     stopped: list[float] = []
-    budgets: list[float] = []
 
     def undecided(self, budget, incumbent, target, *, first, improve=None, floor=1):
-        budgets.append(budget)
         while not self.out_of_time():
             time.sleep(0.01)
         stopped.append(time.perf_counter())
@@ -482,46 +478,6 @@ def test_a_makespan_bisection_cut_short_resumes_after_the_decisions(monkeypatch)
     result = makespan_search.min_makespan(D, k, tours=tours, time_limit=4.0, warm_start=start)
     assert result.status == "feasible" and result.objective == pytest.approx(value)
     assert stopped and stopped[0] - began == pytest.approx(3.0, abs=0.5)  # 4 s less a quarter
-    assert budgets[0] == pytest.approx(value, rel=1e-6)  # just below the makespan
-    assert len(stopped) >= 3 and stopped[-1] - began == pytest.approx(4.0, abs=0.5)  # and the rest
+    assert len(stopped) == 2 and stopped[1] - began == pytest.approx(4.0, abs=0.5)  # and the rest
     assert full > 1.01 * lower  # the bisection has something to gain here
     assert result.bound >= full * (1 - 1e-3)
-    between = np.array(budgets[1:])
-    assert between[0] == pytest.approx(0.5 * (result.bound + value))
-    assert np.allclose(np.diff(between - result.bound), -0.5 * (between[:-1] - result.bound))
-
-
-@pytest.mark.parametrize("tours", [False, True])
-def test_decisions_between_bound_and_makespan_raise_the_bound_to_the_optimum(tours, monkeypatch):
-    """When the bisection proves nothing (though it converged) and the decision just
-    below the warm start's makespan waits out its time (the limit less a quarter), the
-    decisions between the bound and the makespan find
-    the optimum (setpart's, a second exact method) and raise the bound to within the
-    bisection's tolerance of it, never past it: each closed tree is a proof."""
-    D = euclidean(12, 4)
-    k = 3
-    optimum = setpart.min_makespan(D, k, tours=tours).objective
-    start = [[1, 2, 3, 4], [5, 6, 7, 8], [9, 10, 11, 12]]
-    value = max(route_cost(D, route, tours) for route in start)
-    decide = branchprice.BranchAndPrice.fewest_routes
-
-    def stalled_at_the_makespan(self, budget, incumbent, target, **kwargs):
-        if budget >= value * (1 - 1e-6):
-            while not self.out_of_time():
-                time.sleep(0.01)
-            return None, None, tree.Ending.UNKNOWN
-        return decide(self, budget, incumbent, target, **kwargs)
-
-    before: list[float] = []
-
-    def no_bisection(search, k, lower, upper, ends_at):
-        before.append(lower)
-        return lower, False
-
-    monkeypatch.setattr(makespan_search, "_makespan_lp_bound", no_bisection)
-    monkeypatch.setattr(branchprice.BranchAndPrice, "fewest_routes", stalled_at_the_makespan)
-    result = makespan_search.min_makespan(D, k, tours=tours, time_limit=8.0, warm_start=start)
-    check_solution(D, result, tours=tours, k=k)
-    assert value > 1.5 * optimum and max(before) < 0.99 * optimum  # where the decisions start
-    assert result.objective == pytest.approx(optimum, rel=1e-9)
-    assert optimum * (1 - makespan_search.LP_BOUND_TOL) <= result.bound <= optimum * (1 + TOL)
