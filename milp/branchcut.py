@@ -77,6 +77,7 @@ from milp.core.merge import checked_start, merge_zero_distances, model_result
 from milp.core.result import MilpResult
 from milp.core.routes import check_distance_matrix, makespan
 from milp.core.sizes import BRANCHCUT_MAX_KPOIS
+from milp.core.timelimit import stop_requested
 
 log = logging.getLogger(__name__)
 
@@ -329,7 +330,7 @@ def min_makespan(
     model = _Model(M, min(k, merged.size), tours=tours, lower=lower, upper=value)
     h = model.h
     root_ends_at = began + ROOT_SHARE * (ends_at - began)
-    while time.perf_counter() < root_ends_at:
+    while time.perf_counter() < root_ends_at and not stop_requested():
         _set_time(h, root_ends_at)
         h.run()
         if h.getModelStatus() != highspy.HighsModelStatus.kOptimal:
@@ -341,7 +342,7 @@ def min_makespan(
     h.changeColsIntegrality(len(model.integer), model.integer,
                             np.full(len(model.integer), highspy.HighsVarType.kInteger))
     mips, nodes = 0, 0
-    while time.perf_counter() < ends_at:
+    while time.perf_counter() < ends_at and not stop_requested():  # stop: a race's rival, Ctrl-C
         start = model.start(routes)
         if start is not None:
             solution = highspy.HighsSolution()

@@ -10,7 +10,10 @@ question pickled on its standard input, the answer on its standard output): unli
 HiGHS thread pool of the parent without its threads. An entrant ends with its parent
 (:mod:`milp.core.orphans`): a killed solve leaves none running. Every entrant gets the
 same time limit; the race ends when one proves its answer (the others are stopped), when
-every entrant has answered, or when the time is up.
+every entrant has answered, or when the time is up. Entrants run in a session of their
+own, out of reach of the terminal's Ctrl-C; when the parent is interrupted
+(:func:`milp.core.timelimit.interrupt`) it tells each one on its standard input, and
+each answers with what it has, as at its time limit.
 
 :func:`race_here` runs one entrant in the caller's process and thread, from the first
 second to the last (it is never restarted), and the others as :func:`race` does, started
@@ -33,12 +36,12 @@ import tempfile
 import threading
 import time
 from collections.abc import Callable
-from typing import Any
+from typing import IO, Any
 
 from milp.core import progress
 from milp.core.orphans import exit_with_parent
 from milp.core.result import MilpResult
-from milp.core.timelimit import stopping
+from milp.core.timelimit import interrupt, interrupted, stopping
 
 __all__ = ["race", "race_here", "Entrant", "cores", "share_cores", "START_SECONDS"]
 
@@ -49,6 +52,8 @@ log = logging.getLogger(__name__)
 
 #: Seconds the race waits past the time limit for an answer before stopping an entrant.
 GRACE_SECONDS = 1.0
+#: Seconds between two looks at whether this process was interrupted, while it waits.
+INTERRUPT_POLL_SECONDS = 0.25
 
 
 def cores() -> int:
@@ -94,7 +99,8 @@ class Entrant:
         try:
             self.process = subprocess.Popen([sys.executable, "-m", "milp.race", str(os.getpid())],
                                             stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self._errors,
-                                            env=environment, pass_fds=() if log_fd is None else (log_fd,))
+                                            env=environment, pass_fds=() if log_fd is None else (log_fd,),
+                                            start_new_session=True)
         except BaseException:
             self._errors.close()
             raise
@@ -103,8 +109,9 @@ class Entrant:
                 os.close(log_fd)
         log.info("race: %s started (pid %d, %s)", name, self.process.pid,
                  "no time limit" if time_limit is None else f"{time_limit:.1f} s")
+        # stdin stays open: its end asks the entrant to stop (interrupt)
         self.process.stdin.write(pickle.dumps((target, args, {**kwargs, "time_limit": time_limit})))
-        self.process.stdin.close()
+        self.process.stdin.flush()
 
     @property
     def running(self) -> bool:
@@ -134,14 +141,27 @@ class Entrant:
                  _number(self.answer.objective), _number(self.answer.bound))
         return self.answer
 
+    def interrupt(self) -> None:
+        """Ask it to stop and answer with what it has: close its standard input."""
+        _close(self.process.stdin)
+
     def stop(self) -> None:
         """End it (if it runs) and release its files."""
         if self.process.returncode is None:
             self.process.kill()
             self.process.wait()
-        if not self.process.stdout.closed:
-            self.process.stdout.close()
+        _close(self.process.stdin)
+        _close(self.process.stdout)
         self._errors.close()
+
+
+def _close(stream: IO[bytes]) -> None:
+    """Close a pipe to or from an entrant, which may have ended."""
+    if not stream.closed:
+        try:
+            stream.close()
+        except BrokenPipeError:  # the entrant has ended: nothing was waiting to be read
+            pass
 
 
 def race(entrants: dict[str, str], args: tuple, kwargs: dict[str, Any],
@@ -191,17 +211,22 @@ def _answers(entrants: list[Entrant], ends_at: float | None, until: threading.Ev
              poll: float | None = None) -> dict[str, MilpResult]:
     """The entrants' answers as they arrive, until one proves (then its answer alone),
     every one has answered, ``ends_at`` (a :func:`time.perf_counter` value) passes, or
-    ``until`` is set (looked at every ``poll`` seconds)."""
+    ``until`` is set (looked at every ``poll`` seconds). Once this process is
+    interrupted, so is every entrant."""
     answers: dict[str, MilpResult] = {}
+    poll = INTERRUPT_POLL_SECONDS if poll is None else min(poll, INTERRUPT_POLL_SECONDS)
     with selectors.DefaultSelector() as selector:
         for entrant in entrants:
             if entrant.running:
                 selector.register(entrant.process.stdout, selectors.EVENT_READ, entrant)
         while selector.get_map() and not (until is not None and until.is_set()):
+            if interrupted():
+                for entrant in entrants:
+                    entrant.interrupt()
             left = None if ends_at is None else ends_at - time.perf_counter()
             if left is not None and left <= 0:
                 break
-            wait = left if poll is None else (poll if left is None else min(poll, left))
+            wait = poll if left is None else min(poll, left)
             for key, _ in selector.select(timeout=wait):
                 entrant = key.data
                 answer = entrant.read()
@@ -266,7 +291,7 @@ def race_here(name: str, function: Callable[..., MilpResult], others: dict[str, 
             if done.wait(others_after):
                 return
             left = None if ends_at is None else ends_at - time.perf_counter()
-            if left is not None and left <= START_SECONDS + 1.0:
+            if interrupted() or (left is not None and left <= START_SECONDS + 1.0):
                 return
             for other, target in others.items():
                 started.append(Entrant(other, target, args, {**(others_kwargs or kwargs)}, _entrant_limit(left)))
@@ -323,6 +348,7 @@ def _main() -> None:
     that started it, whose id is its argument (:func:`milp.core.orphans.exit_with_parent`)."""
     exit_with_parent(int(sys.argv[1]))
     target, args, kwargs = pickle.load(sys.stdin.buffer)
+    threading.Thread(target=_interrupt_on_input, name="milp-race-interrupt", daemon=True).start()
     progress.log_as_entrant()
     answer_fd = os.dup(1)
     os.dup2(2, 1)
@@ -330,6 +356,13 @@ def _main() -> None:
     answer = getattr(importlib.import_module(module), function)(*args, **kwargs)
     with os.fdopen(answer_fd, "wb") as out:
         out.write(pickle.dumps(answer))
+
+
+def _interrupt_on_input() -> None:
+    """Entrant: stop the work (:func:`milp.core.timelimit.interrupt`) once the parent
+    closes its standard input (:meth:`Entrant.interrupt`)."""
+    os.read(sys.stdin.fileno(), 1)  # the file descriptor: a buffered read's lock would stall the exit
+    interrupt()
 
 
 if __name__ == "__main__":

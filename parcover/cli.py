@@ -1,7 +1,8 @@
 """The ``parcover`` command line (docs/format.md section 3): parse, call, print.
 
 Exit status: 0 on success (an ``infeasible`` answer is a success), 1 when ``verify``
-finds the solution invalid, 2 with one line on stderr for usage errors and bad input.
+finds the solution invalid, 2 with one line on stderr for usage errors and bad input, 130
+when interrupted (a ``solve`` stopped by Ctrl-C prints the best routes it had first).
 """
 
 from __future__ import annotations
@@ -10,11 +11,13 @@ import argparse
 import os
 import shlex
 import sys
-from collections.abc import Callable, Sequence
+import threading
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from typing import NoReturn
 
 from parcover import __version__
-from milp.core.timelimit import TimeLimit
+from milp.core.timelimit import TimeLimit, interrupt_stops, interrupted
 from milp.core.sizes import SETPART_MAX_KPOIS
 from parcover import generate as gen
 from parcover.certify import Certificate, verify
@@ -28,6 +31,11 @@ from parcover.solve import available_methods, solve
 from parcover.verify import InvalidSolution
 
 __all__ = ["main", "run"]
+
+#: Exit status of an interrupted command (128 + SIGINT, as shells report it).
+INTERRUPTED_STATUS = 130
+#: Seconds after which a solve on a terminal without ``--log`` says it is still running.
+STILL_SOLVING_SECONDS = 10.0
 
 
 class _Parser(argparse.ArgumentParser):
@@ -68,7 +76,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     except KeyboardInterrupt:
         print(f"parcover {args.command}: interrupted", file=sys.stderr)
-        return 130
+        return INTERRUPTED_STATUS
     except MemoryError:
         print(f"parcover {args.command}: error: not enough memory for this instance.", file=sys.stderr)
         return 2
@@ -95,16 +103,19 @@ def _solve(args: argparse.Namespace) -> int:
     options: dict[str, object] = {"trace": True} if args.trace else {}
     if args.export_model:
         options["export_model"] = args.export_model
-    result = solve(
-        instance,
-        routes=args.routes or "paths",
-        robots=args.robots,
-        deadline=args.deadline,
-        method=args.method,
-        time_limit=time_limit,
-        seed=args.seed,
-        **options,
-    )
+    with interrupt_stops("parcover solve: stopping with the best routes found so far (Ctrl-C again to quit "
+                         "without them)"), _still_solving_notice(args, time_limit):
+        result = solve(
+            instance,
+            routes=args.routes or "paths",
+            robots=args.robots,
+            deadline=args.deadline,
+            method=args.method,
+            time_limit=time_limit,
+            seed=args.seed,
+            **options,
+        )
+        stopped = interrupted()
     if args.trace and not args.json:
         for line in result.info.get("trace", []):
             print(line)
@@ -122,7 +133,26 @@ def _solve(args: argparse.Namespace) -> int:
 
         _draw(lambda: save_routes_plot(instance, result, args.plot), args.plot)
     _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
-    return 0
+    return INTERRUPTED_STATUS if stopped else 0
+
+
+@contextmanager
+def _still_solving_notice(args: argparse.Namespace, time_limit: TimeLimit) -> Iterator[None]:
+    """On a terminal, without ``--log``: one line on stderr once the solve has run
+    :data:`STILL_SOLVING_SECONDS`, saying how to see its progress or stop it."""
+    if getattr(args, "log", False) or not sys.stderr.isatty():
+        yield
+        return
+    limit = "no time limit" if time_limit.seconds is None else f"time limit {time_limit.seconds:g} s"
+    timer = threading.Timer(STILL_SOLVING_SECONDS, lambda: print(
+        f"parcover solve: still solving ({args.method}, {limit}); --log shows its progress, "
+        "Ctrl-C stops it with the best routes found so far", file=sys.stderr, flush=True))
+    timer.daemon = True
+    timer.start()
+    try:
+        yield
+    finally:
+        timer.cancel()
 
 
 def _start_log(args: argparse.Namespace) -> None:

@@ -18,7 +18,7 @@ from dataclasses import replace
 from functools import partial
 from typing import Any
 
-from milp.core.timelimit import TimeLimit, TimeLimitLike
+from milp.core.timelimit import TimeLimit, TimeLimitLike, interrupted
 from parcover.bounds import lower_bound, robots_lower_bound
 from parcover.errors import InputError
 from parcover.instance import Instance, check_whole, finite_float, short_repr
@@ -148,6 +148,9 @@ def solve(
     if coverage_deadline is not None and not meets_deadline(problem.least_makespan(instance), coverage_deadline):
         solution = Solution(routes=[], status=Status.INFEASIBLE,
                             info={"message": unreachable_reason(instance, problem, coverage_deadline)})
+    elif interrupted():
+        solution = Solution(routes=[], status=Status.UNKNOWN,
+                            info={"message": f"interrupted (Ctrl-C) before {method!r} could start"})
     elif time_limit.expired():
         spent = f"{time_limit.seconds:g} s" if time_limit.seconds is not None else "time"
         solution = Solution(routes=[], status=Status.UNKNOWN, info={
@@ -160,6 +163,8 @@ def solve(
                  method, "no time limit" if seconds is None else f"{seconds:.3g} s for the method")
         solution = info.function(instance, _at_most_n_robots(instance, problem), time_limit=seconds, seed=seed,
                                  **options)
+        if interrupted():  # it stopped as at its time limit (milp.core.timelimit.interrupt_stops)
+            solution.info["message"] = "; ".join(filter(None, ["interrupted (Ctrl-C)", solution.info.get("message")]))
     result = build_result(instance, problem, method, solution, time.perf_counter() - started,
                           time_left=time_limit.remaining())
     log.info("solve: %s", result.headline())

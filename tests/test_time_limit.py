@@ -130,6 +130,72 @@ def test_deadline_counts_down_and_expires() -> None:
     assert clock.expired() and clock.remaining() == 0.0
 
 
+def test_the_first_ctrl_c_expires_every_limit_and_a_second_raises(capfd) -> None:
+    """interrupt_stops: the first SIGINT expires every thread's time limit and writes the
+    notice; a second raises KeyboardInterrupt; the interrupt ends with the block."""
+    import os
+    import signal
+    import threading
+
+    from milp.core.timelimit import interrupt_stops, interrupted, stop_requested
+
+    def wait_for(condition) -> None:  # a signal's Python handler runs at the next bytecode
+        ends = time.perf_counter() + 5.0
+        while not condition() and time.perf_counter() < ends:
+            time.sleep(0.01)
+
+    clock, seen = TimeLimit(60.0), []
+    with pytest.raises(KeyboardInterrupt):
+        with interrupt_stops("stopping"):
+            os.kill(os.getpid(), signal.SIGINT)
+            wait_for(interrupted)
+            other = threading.Thread(target=lambda: seen.append(stop_requested()))
+            other.start()
+            other.join()
+            assert clock.expired() and clock.remaining() == 0.0 and seen == [True]
+            os.kill(os.getpid(), signal.SIGINT)
+            wait_for(lambda: False)
+    assert not interrupted() and not clock.expired()
+    assert capfd.readouterr().err == "stopping\n"
+
+
+def test_an_interrupted_solve_says_so() -> None:
+    from milp.core.timelimit import interrupt, interrupt_stops
+
+    instance = Instance.from_points([(0, 0), (1, 0), (0, 1)])
+    with interrupt_stops(""):
+        interrupt()
+        result = solve(instance, robots=1)
+    assert result.status.value == "unknown" and "interrupted (Ctrl-C)" in result.info["message"]
+
+
+def test_an_interrupt_stops_a_highs_mip() -> None:
+    """HiGHS' MIP search stops once asked (milp.core.highs' interrupt callback): a market
+    split problem (Cornuejols and Dawande 1999; 4 rows, 30 binaries), which HiGHS does not
+    solve in 10 s, ends within seconds of the interrupt with its incumbent, unproven."""
+    import threading
+
+    from scipy import sparse
+
+    from milp.core.highs import make_lp, solve_lp
+    from milp.core.timelimit import interrupt, interrupt_stops
+
+    rows, columns = 4, 30
+    A = np.random.default_rng(1).integers(0, 100, size=(rows, columns)).astype(float)
+    rhs = np.floor(A.sum(axis=1) / 2)  # minimise the total deviation |Ax - rhs|
+    matrix = sparse.hstack([sparse.csc_matrix(A), sparse.identity(rows), -sparse.identity(rows)]).tocsc()
+    lp = make_lp(np.r_[np.zeros(columns), np.ones(2 * rows)],
+                 (np.zeros(columns + 2 * rows), np.r_[np.ones(columns), np.full(2 * rows, np.inf)]),
+                 matrix, (rhs, rhs), np.r_[np.ones(columns, bool), np.zeros(2 * rows, bool)])
+    with interrupt_stops(""):
+        threading.Timer(1.0, interrupt).start()
+        began = time.perf_counter()
+        solved = solve_lp(lp, time_limit=60.0)
+        took = time.perf_counter() - began
+    assert took < 1.0 + 10.0
+    assert solved.status == "feasible" and "Interrupted" in solved.message
+
+
 def test_an_expired_deadline_stops_two_opt_at_once() -> None:
     points = np.random.default_rng(3).uniform(0, 100, (41, 2))
     D = np.hypot(*(points[:, None, :] - points[None, :, :]).transpose(2, 0, 1))

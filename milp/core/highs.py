@@ -16,6 +16,8 @@ import highspy
 import numpy as np
 from scipy import sparse
 
+from milp.core.timelimit import stop_requested
+
 
 def _absorb_banner() -> None:
     """Build the process's first ``Highs`` with the C-level stdout sent to /dev/null.
@@ -126,8 +128,11 @@ def make_lp(
 
 def new_highs(time_limit: float | None, options: dict | None = None) -> highspy.Highs:
     """A silent HiGHS instance with the exact-gap options, an optional time limit and
-    any further ``options`` (HiGHS option name -> value)."""
+    any further ``options`` (HiGHS option name -> value). Its MIP search stops, as at its
+    time limit, once the caller is asked to stop (a race's rival proved the answer, or
+    Ctrl-C: :func:`milp.core.timelimit.stop_requested`)."""
     h = highspy.Highs()
+    h.cbMipInterrupt += _interrupt_when_asked
     h.setOptionValue("output_flag", False)
     h.setOptionValue("mip_rel_gap", MIP_REL_GAP)
     h.setOptionValue("mip_abs_gap", MIP_ABS_GAP)
@@ -218,6 +223,12 @@ def write_model(lp: highspy.HighsLp, path: str | os.PathLike[str]) -> Path:
     if h.writeModel(str(out)) == highspy.HighsStatus.kError:
         raise OSError(f"HiGHS could not write {out}")
     return out
+
+
+def _interrupt_when_asked(event: highspy.highs.HighsCallbackEvent) -> None:
+    """HiGHS' MIP interrupt callback: stop when :func:`stop_requested`."""
+    if stop_requested():
+        event.interrupt()
 
 
 def _finite(value: float) -> float | None:

@@ -17,20 +17,26 @@ thread an event (set from another thread, e.g. when another entrant of a race ha
 the answer, :func:`milp.race.race_here`), and :func:`stop_requested` is true once it is
 set. Code that reads its clock checks it there (:mod:`milp.branchprice`'s search); a
 :class:`TimeLimit` of that thread then counts as :meth:`~TimeLimit.expired` with nothing
-:meth:`~TimeLimit.remaining`.
+:meth:`~TimeLimit.remaining`. :func:`interrupt` asks every thread of the process at once:
+``parcover solve`` calls it on the first Ctrl-C (:func:`interrupt_stops`), so the solve
+ends as at its time limit, with the best routes found and the bound proven so far.
 """
 
 from __future__ import annotations
 
+import os
+import signal
 import threading
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Union
 
-__all__ = ["TimeLimit", "TimeLimitLike", "stopping", "stop_requested"]
+__all__ = ["TimeLimit", "TimeLimitLike", "stopping", "stop_requested", "interrupt", "interrupted",
+           "interrupt_stops"]
 
 _STOPS: dict[int, threading.Event] = {}
+_INTERRUPTED = threading.Event()
 
 
 @contextmanager
@@ -50,9 +56,46 @@ def stopping(event: threading.Event) -> Iterator[threading.Event]:
 
 
 def stop_requested() -> bool:
-    """Whether the current thread was asked to stop (:func:`stopping`)."""
+    """Whether the current thread was asked to stop (:func:`stopping`), or the whole
+    process (:func:`interrupt`)."""
     event = _STOPS.get(threading.get_ident())
-    return event is not None and event.is_set()
+    return _INTERRUPTED.is_set() or (event is not None and event.is_set())
+
+
+def interrupt() -> None:
+    """Ask every thread of this process to stop, as at the end of its time limit."""
+    _INTERRUPTED.set()
+
+
+def interrupted() -> bool:
+    """Whether :func:`interrupt` was called (within :func:`interrupt_stops`, by a Ctrl-C)."""
+    return _INTERRUPTED.is_set()
+
+
+@contextmanager
+def interrupt_stops(notice: str) -> Iterator[None]:
+    """Within the block, the first Ctrl-C (SIGINT) calls :func:`interrupt` and writes
+    ``notice`` on stderr, so the work ends as at its time limit with what it has found; a
+    second one raises :class:`KeyboardInterrupt` as usual. The interrupt is cleared when
+    the block ends. Outside the main thread (where Python runs signal handlers) Ctrl-C
+    keeps its usual effect."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def first(signum: int, frame: object) -> None:
+        if _INTERRUPTED.is_set():
+            raise KeyboardInterrupt
+        _INTERRUPTED.set()
+        if notice:
+            os.write(2, notice.encode() + b"\n")  # not print: the handler may run inside a print
+
+    outer = signal.signal(signal.SIGINT, first)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, outer)
+        _INTERRUPTED.clear()
 
 
 class TimeLimit:

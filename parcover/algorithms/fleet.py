@@ -34,6 +34,7 @@ import numpy as np
 from milp.bounds import robots_lower_bound
 from milp.core.result import MilpResult
 from milp.core.routes import ABS_TOL, REL_TOL, route_cost, within
+from milp.core.timelimit import stop_requested
 
 __all__ = ["fewest_routes", "race_entrant"]
 
@@ -45,7 +46,9 @@ def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float
                   floor: int | Callable[[], int] = 1) -> list[list[int]] | None:
     """Routes covering KPOIs ``1..n`` of ``D``, each within ``deadline``, as few as PyVRP
     finds in ``seconds``; it stops early at ``floor`` routes (a proven bound, or a function
-    returning the bound proven so far). ``None`` when it finds no routes within the deadline."""
+    returning the bound proven so far), or when asked to
+    (:func:`milp.core.timelimit.stop_requested`). ``None`` when it finds no routes within
+    the deadline."""
     from pyvrp import Model
     from pyvrp.stop import MaxRuntime, MultipleCriteria
 
@@ -74,8 +77,8 @@ def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float
             if i != j:
                 model.add_edge(points[i], points[j], distance=int(arcs[i, j]))
 
-    def enough(cost: float) -> bool:
-        return cost < ((floor() if callable(floor) else floor) + 1) * fixed
+    def enough(cost: float) -> bool:  # or asked to stop: a race's rival proved it, or Ctrl-C
+        return stop_requested() or cost < ((floor() if callable(floor) else floor) + 1) * fixed
 
     with warnings.catch_warnings():  # its penalty warnings speak of its own parameters
         warnings.simplefilter("ignore")

@@ -63,7 +63,7 @@ import numpy as np
 
 from milp.core.result import MilpResult
 from milp.core.routes import makespan, within
-from milp.core.timelimit import TimeLimit, TimeLimitLike
+from milp.core.timelimit import TimeLimit, TimeLimitLike, stop_requested
 from parcover.algorithms.moves import Key, Search
 from parcover.algorithms.starts import best_construction, min_max_insertion
 from parcover.bounds import lower_bound, robots_lower_bound
@@ -306,7 +306,8 @@ def improve(
     horizon = iterations if iterations is not None else patience
     clocked = stop is not None and patience is None  # does the temperature follow the clock?
     done = last_better = 0
-    while (iterations is None or done < iterations) and not search.out_of_time():
+    # stop_requested: a race's rival proved the answer, or Ctrl-C (milp.core.timelimit)
+    while (iterations is None or done < iterations) and not search.out_of_time() and not stop_requested():
         if target is not None and _meets(incumbent_key, target):
             break
         if patience is not None and done >= patience and done - last_better >= patience:

@@ -41,6 +41,28 @@ def test_an_entrant_that_fails_is_reported():
         race.race({"branchcut": "milp.branchcut:min_makespan"}, (euclidean(5, 1), 0), {"tours": True}, 30)
 
 
+def test_an_interrupt_reaches_every_entrant():
+    """Ctrl-C in the parent (milp.core.timelimit.interrupt) reaches the entrants, which run
+    in sessions of their own, on their standard input: without a time limit of their own
+    (the race's 120 s would end them at 120 s), both answer with valid unproven routes
+    soon after."""
+    import threading
+
+    from milp.core.timelimit import interrupt, interrupt_stops
+
+    D = euclidean(60, 3)
+    with interrupt_stops(""):
+        threading.Timer(8.0, interrupt).start()
+        began = time.perf_counter()
+        answers = race.race(BOTH, (D, 2), {"tours": True}, 120.0)
+        took = time.perf_counter() - began
+    assert took < 8.0 + 30.0
+    assert set(answers) == set(BOTH)
+    for answer in answers.values():
+        assert answer.status == "feasible"
+        check_solution(D, answer, tours=True, k=2)
+
+
 def _waits_for_the_stop(D, k, *, tours, time_limit, warm_start=None):
     """An entrant here that proves nothing: it waits until stopped or out of time, as
     branch-and-price does between pricing rounds."""
