@@ -37,6 +37,8 @@ _VALUE_RTOL = 1e-9
 # a share without a cap made a proof depend on a longer limit than it took (40 KPOIs,
 # 3 tours, proven at 110 s: with --time-limit 120 the method had 108 s).
 _CHECK_SHARE, _CHECK_SECONDS = 0.1, 2.0
+#: The note of an answer the user stopped (:func:`milp.core.timelimit.interrupt_stops`).
+INTERRUPTED = "interrupted (Ctrl-C)"
 
 
 log = logging.getLogger(__name__)
@@ -150,7 +152,7 @@ def solve(
                             info={"message": unreachable_reason(instance, problem, coverage_deadline)})
     elif interrupted():
         solution = Solution(routes=[], status=Status.UNKNOWN,
-                            info={"message": f"interrupted (Ctrl-C) before {method!r} could start"})
+                            info={"message": f"{INTERRUPTED} before {method!r} could start"})
     elif time_limit.expired():
         spent = f"{time_limit.seconds:g} s" if time_limit.seconds is not None else "time"
         solution = Solution(routes=[], status=Status.UNKNOWN, info={
@@ -164,7 +166,7 @@ def solve(
         solution = info.function(instance, _at_most_n_robots(instance, problem), time_limit=seconds, seed=seed,
                                  **options)
         if interrupted():  # it stopped as at its time limit (milp.core.timelimit.interrupt_stops)
-            solution.info["message"] = "; ".join(filter(None, ["interrupted (Ctrl-C)", solution.info.get("message")]))
+            solution.info["message"] = "; ".join(filter(None, [INTERRUPTED, solution.info.get("message")]))
     result = build_result(instance, problem, method, solution, time.perf_counter() - started,
                           time_left=time_limit.remaining())
     log.info("solve: %s", result.headline())

@@ -35,7 +35,7 @@ def clustered_60(tmp_path_factory) -> Path:
     return path
 
 
-def _solve_until(instance: Path, out: Path, logged: str) -> tuple[subprocess.Popen, list[str]]:
+def _solve_until(instance: Path, out: Path, logged: str) -> subprocess.Popen:
     """``parcover solve --log`` (exact, 4 tours, no time limit) in a session of its own,
     as a terminal runs it, once its log has shown a line with ``logged``."""
     process = subprocess.Popen(
@@ -46,7 +46,7 @@ def _solve_until(instance: Path, out: Path, logged: str) -> tuple[subprocess.Pop
     for line in process.stderr:
         lines.append(line)
         if logged in line:
-            return process, lines
+            return process
     process.wait()
     pytest.fail(f"the solve ended before logging {logged!r}:\n{''.join(lines)}")
 
@@ -72,7 +72,7 @@ def _ended(process: subprocess.Popen) -> str:
 def test_ctrl_c_stops_a_solve_with_its_best_routes_verified(clustered_60, tmp_path):
     out = tmp_path / "result.json"
     # once branch-and-price's rival runs in another process: both are asked to stop
-    process, _ = _solve_until(clustered_60, out, "race: best started")
+    process = _solve_until(clustered_60, out, "race: best started")
     _ctrl_c(process)
     began = time.perf_counter()
     err = _ended(process)
