@@ -15,6 +15,7 @@ from milp.warmstart import nearest_neighbour_order, split_min_makespan
 from milp_helpers import TOL, check_solution, euclidean, graph_metric
 
 INSTANCES = [("euclid", 6, 31), ("euclid", 9, 32), ("euclid", 12, 33), ("graph", 7, 34), ("graph", 10, 35)]
+ARCFLOW_MAX_KPOIS = 9
 
 
 def make(kind: str, n: int, seed: int) -> np.ndarray:
@@ -24,12 +25,15 @@ def make(kind: str, n: int, seed: int) -> np.ndarray:
 @pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
 @pytest.mark.parametrize("kind,n,seed", INSTANCES)
 def test_least_makespan_agrees_with_set_partitioning(kind, n, seed, tours):
+    """Against set partitioning on every instance, and against the arc-flow model up to
+    :data:`ARCFLOW_MAX_KPOIS` (above, it takes 10-80 s a cell on the graph metric's ties;
+    its own agreement with set partitioning is ``test_crosscheck``'s)."""
     D = make(kind, n, seed)
     for k in (1, 2, 3, 4):
         answer = branchcut.min_makespan(D, k, tours=tours)
         assert answer.status == "optimal", (k, answer)
         value = check_solution(D, answer, tours=tours, k=k)
-        for method in (setpart, arcflow):
+        for method in (setpart, arcflow) if n <= ARCFLOW_MAX_KPOIS else (setpart,):
             reference = method.min_makespan(D, k, tours=tours)
             assert reference.status == "optimal"
             assert abs(value - reference.objective) <= TOL * max(1.0, reference.objective), (k, value, reference)
