@@ -39,6 +39,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
+from milp.core.timelimit import interrupted
 from parcover.instance import Instance
 from parcover.result import Result, RoutesKind, Status
 from parcover.verify import Certificate, Verdict
@@ -127,8 +128,9 @@ def certify(instance: Instance, fields: Mapping[str, Any], *, time_limit: float 
     if reasons:
         return Certificate("refuted", method, reasons)
     proven = "-" if answer.bound is None else f"{answer.bound:.10g}"
+    when = "before it was interrupted (Ctrl-C)" if interrupted() else f"within {time_limit:g} s"
     return Certificate("undecided", method, [
-        f"{method} did not prove within {time_limit:g} s (its bound {proven}, its value "
+        f"{method} did not prove {when} (its bound {proven}, its value "
         f"{'-' if found is None else format(found, '.10g')})"])
 
 

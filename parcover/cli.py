@@ -2,7 +2,8 @@
 
 Exit status: 0 on success (an ``infeasible`` answer is a success), 1 when ``verify``
 finds the solution invalid, 2 with one line on stderr for usage errors and bad input, 130
-when interrupted (a ``solve`` stopped by Ctrl-C prints the best routes it had first).
+when interrupted (a ``solve`` stopped by Ctrl-C prints the best routes it had first, a
+``frontier`` the points it had, ``verify --certify`` its re-proof's outcome so far).
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ import shlex
 import sys
 import threading
 from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import AbstractContextManager, contextmanager
 from typing import NoReturn
 
 from parcover import __version__
@@ -103,8 +104,7 @@ def _solve(args: argparse.Namespace) -> int:
     options: dict[str, object] = {"trace": True} if args.trace else {}
     if args.export_model:
         options["export_model"] = args.export_model
-    with interrupt_stops("parcover solve: stopping with the best routes found so far (Ctrl-C again to quit "
-                         "without them)"), _still_solving_notice(args, time_limit):
+    with _ctrl_c_stops("solve", "the best routes found so far"), _still_solving_notice(args, time_limit):
         result = solve(
             instance,
             routes=args.routes or "paths",
@@ -134,6 +134,13 @@ def _solve(args: argparse.Namespace) -> int:
         _draw(lambda: save_routes_plot(instance, result, args.plot), args.plot)
     _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
     return INTERRUPTED_STATUS if stopped else 0
+
+
+def _ctrl_c_stops(command: str, keeps: str) -> AbstractContextManager[None]:
+    """Within the block, a first Ctrl-C stops the work as its time limit would (the
+    command then prints ``keeps`` and exits with :data:`INTERRUPTED_STATUS`), a second
+    quits (:func:`milp.core.timelimit.interrupt_stops`)."""
+    return interrupt_stops(f"parcover {command}: stopping with {keeps} (Ctrl-C again to quit without them)")
 
 
 @contextmanager
@@ -170,7 +177,9 @@ def _verify(args: argparse.Namespace) -> int:
     if not (isinstance(solution, dict) and "routes" in solution) and not isinstance(solution, list):
         raise FileFormatError(f"{args.solution}: not a solution: expected a JSON object with 'routes'.")
     try:
-        verdict = verify(instance, solution, certify=args.certify, time_limit=args.time_limit)
+        with _ctrl_c_stops("verify", "what the re-proof has found so far"):
+            verdict = verify(instance, solution, certify=args.certify, time_limit=args.time_limit)
+            stopped = interrupted()
     except InvalidSolution as exc:
         for problem in exc.problems:
             print(f"invalid: {problem}")
@@ -181,7 +190,7 @@ def _verify(args: argparse.Namespace) -> int:
             print(f"valid: no routes, status {status} (not re-proved without --certify)")
             return 0
         print(f"no routes, status {status}")
-        return _print_certificate(verdict.certificate)
+        return _certificate_status(verdict.certificate, stopped)
     summary = (
         f"{verdict.robots} robot{'s' if verdict.robots != 1 else ''}, makespan {verdict.makespan:.10g}"
         f" ({verdict.routes_kind})"
@@ -192,11 +201,18 @@ def _verify(args: argparse.Namespace) -> int:
         print(f"routes are well formed: {summary}")
         return 1
     print(f"valid: {summary}")
-    return 0 if verdict.certificate is None else _print_certificate(verdict.certificate)
+    return 0 if verdict.certificate is None else _certificate_status(verdict.certificate, stopped)
+
+
+def _certificate_status(certificate: Certificate, stopped: bool) -> int:
+    """Print the certifier's outcome; the exit status of ``verify --certify``: that of
+    the outcome, or :data:`INTERRUPTED_STATUS` when a Ctrl-C (``stopped``) left it undecided."""
+    outcome = _print_certificate(certificate)
+    return INTERRUPTED_STATUS if stopped and certificate.outcome == "undecided" else outcome
 
 
 def _print_certificate(certificate: Certificate) -> int:
-    """Print the certifier's outcome; the exit status of ``verify --certify``."""
+    """Print the certifier's outcome; its exit status."""
     if certificate.outcome == "refuted":
         for reason in certificate.reasons:
             print(f"invalid: {reason}")
@@ -214,15 +230,16 @@ def _frontier(args: argparse.Namespace) -> int:
     _check_outputs(args, out=args.out, plot=args.plot)
     instance = read_instance(args.instance, metric=args.distance)
     progress = _print_frontier_point if sys.stderr.isatty() else None
-    result = frontier(
-        instance, args.routes, args.method, time_limit=args.time_limit, seed=args.seed, progress=progress
-    )
+    with _ctrl_c_stops("frontier", "the points found so far"):
+        result = frontier(
+            instance, args.routes, args.method, time_limit=args.time_limit, seed=args.seed, progress=progress
+        )
     if args.plot:
         from parcover.plot import distance_unit, plot_frontier
 
         _draw(lambda: plot_frontier(result, args.plot, unit=distance_unit(instance)), args.plot)
     _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
-    return 0
+    return INTERRUPTED_STATUS if result.note else 0
 
 
 def _report(args: argparse.Namespace) -> int:

@@ -2,7 +2,9 @@
 
 It stops at the least ``k`` whose makespan reaches the least possible one (``c_max``
 for paths, ``2 c_max`` for tours; paper, Prop. 1), beyond which more robots cannot
-help; with ``n`` robots the one-KPOI-each routes always reach it.
+help; with ``n`` robots the one-KPOI-each routes always reach it. Interrupted
+(:func:`milp.core.timelimit.interrupt`, a Ctrl-C in ``parcover frontier``), it ends with
+the ``k`` being solved, whose point is the best found so far, and says so in its note.
 """
 
 from __future__ import annotations
@@ -10,10 +12,11 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
+from milp.core.timelimit import interrupted
 from parcover.instance import Instance
 from parcover.problem import Problem, meets_deadline
 from parcover.result import Frontier, FrontierPoint, Result, RoutesKind
-from parcover.solve import available_methods, solve
+from parcover.solve import INTERRUPTED, available_methods, solve
 
 __all__ = ["frontier"]
 
@@ -38,6 +41,7 @@ def frontier(
     warm = info is not None and "warm_start" in info.options
     started = time.perf_counter()
     points: list[FrontierPoint] = []
+    note = None
     for k in range(1, instance.n + 1):
         options = {}
         if warm and points and points[-1].result is not None and points[-1].result.routes:
@@ -49,4 +53,8 @@ def frontier(
         points.append(FrontierPoint(k, result.makespan, result.status, result.bound, result))
         if result.makespan is not None and meets_deadline(result.makespan, least):
             break
-    return Frontier(instance.name, routes, method, points, time.perf_counter() - started)
+        if interrupted():
+            robots = f"{k} robot{'s' if k > 1 else ''}"
+            note = f"{INTERRUPTED} at {robots}: the points end before the least possible makespan"
+            break
+    return Frontier(instance.name, routes, method, points, time.perf_counter() - started, note)

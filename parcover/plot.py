@@ -506,8 +506,9 @@ def draw_frontier(
     ax.set_xlabel("robots")
     ax.set_ylabel(f"makespan ({unit})")
     name = frontier.instance or "unnamed instance"
+    ended = f"; stopped by Ctrl-C at {_plural(frontier.points[-1].robots, 'robot')}" if frontier.note else ""
     ax.set_title(f"{name}: least makespan per number of robots ({frontier.routes_kind})\n"
-                 f"frontier by {frontier.method}", fontsize=9)
+                 f"frontier by {frontier.method}{ended}", fontsize=9)
     ax.grid(alpha=0.3)
     return ax
 

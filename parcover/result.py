@@ -234,6 +234,8 @@ class Frontier:
     method: str
     points: list[FrontierPoint]
     seconds: float = 0.0
+    #: Why the points end before the least possible makespan (an interrupted run), or ``None``.
+    note: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -241,6 +243,7 @@ class Frontier:
             "routes_kind": self.routes_kind,
             "method": self.method,
             "points": [p.to_dict() for p in self.points],
+            **({"note": self.note} if self.note else {}),
         }
 
     def to_json(self) -> str:
@@ -257,6 +260,8 @@ class Frontier:
             makespan = _num(p.makespan) if p.makespan is not None else "-"
             bound = _num(p.bound) if p.bound is not None else "-"
             lines.append(f"{p.robots:>6}  {makespan:>12}  {bound:>12}  {p.status.value}")
+        if self.note:
+            lines.append(f"note      {self.note}")
         return "\n".join(lines)
 
 

@@ -5,6 +5,7 @@ entrants are told on their standard input, milp.race)."""
 
 from __future__ import annotations
 
+import importlib
 import json
 import os
 import signal
@@ -106,3 +107,66 @@ def test_a_long_solve_on_a_terminal_says_how_to_follow_or_stop_it(capsys, monkey
     monkeypatch.setattr(sys.stderr, "isatty", lambda: False)  # not on a terminal: nothing
     assert cli.main(["solve", grid, "--robots", "2"]) == 0
     assert "still solving" not in capsys.readouterr().err
+
+
+def _ctrl_c_before(monkeypatch, module, name: str, when=lambda *args, **kwargs: True) -> None:
+    """``module.name`` receives a real SIGINT (as from a terminal) just before it runs,
+    each time ``when(*args, **kwargs)`` holds; then it runs."""
+    real = getattr(module, name)
+
+    def interrupted_first(*args, **kwargs):
+        if when(*args, **kwargs):
+            os.kill(os.getpid(), signal.SIGINT)  # handled in this (the main) thread at once
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(module, name, interrupted_first)
+
+
+def test_ctrl_c_ends_a_frontier_with_the_points_found_so_far(monkeypatch, capfd, tmp_path):
+    """Stopped while solving k = 2 (the grid's last point), the frontier keeps k = 1 and
+    2, says where it ended, and exits with 130; the JSON carries the note."""
+    module = importlib.import_module("parcover.frontier")  # the package's name is the function
+    _ctrl_c_before(monkeypatch, module, "solve", lambda *args, robots, **kwargs: robots == 2)
+    grid = str(Path(__file__).resolve().parents[1] / "instances" / "fig1_grid.json")
+    out = tmp_path / "frontier.json"
+    plot = tmp_path / "frontier.png"
+    assert cli.main(["frontier", grid, "--out", str(out), "--plot", str(plot)]) == cli.INTERRUPTED_STATUS
+    assert plot.stat().st_size > 0
+    printed = capfd.readouterr()
+    assert "parcover frontier: stopping with the points found so far" in printed.err
+    assert "note      interrupted (Ctrl-C) at 2 robots" in printed.out
+    written = json.loads(out.read_text())
+    assert [p["robots"] for p in written["points"]] == [1, 2]
+    assert written["points"][0]["status"] == "optimal" and written["points"][1]["status"] != "optimal"
+    assert written["note"].startswith("interrupted (Ctrl-C) at 2 robots")
+    monkeypatch.undo()
+    assert cli.main(["frontier", grid, "--out", str(out)]) == 0  # the interrupt ended with the command
+    assert "note" not in json.loads(out.read_text())
+
+
+def test_the_plot_of_an_interrupted_frontier_says_so():
+    from matplotlib import pyplot as plt
+
+    from parcover.plot import draw_frontier
+    from parcover.result import Frontier, FrontierPoint, Status
+
+    point = FrontierPoint(1, 8.0, Status.FEASIBLE, 6.0)
+    ax = draw_frontier(Frontier("grid", "paths", "exact", [point], note="interrupted (Ctrl-C) at 1 robots"))
+    assert ax.get_title().endswith("frontier by exact; stopped by Ctrl-C at 1 robot")
+    plt.close(ax.figure)
+    ax = draw_frontier(Frontier("grid", "paths", "exact", [point]))
+    assert ax.get_title().endswith("frontier by exact")
+    plt.close(ax.figure)
+
+
+def test_ctrl_c_leaves_a_certificate_undecided_and_says_why(monkeypatch, capfd, tmp_path):
+    import parcover.certify
+
+    grid = str(Path(__file__).resolve().parents[1] / "instances" / "fig1_grid.json")
+    result = tmp_path / "result.json"
+    assert cli.main(["solve", grid, "--robots", "2", "--out", str(result)]) == 0
+    _ctrl_c_before(monkeypatch, parcover.certify, "_solve")
+    assert cli.main(["verify", grid, str(result), "--certify"]) == cli.INTERRUPTED_STATUS
+    printed = capfd.readouterr()
+    assert "parcover verify: stopping with what the re-proof has found so far" in printed.err
+    assert "did not prove before it was interrupted (Ctrl-C)" in printed.out
