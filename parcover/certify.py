@@ -50,7 +50,7 @@ __all__ = ["Certificate", "certify", "certifier_for", "reaching", "verify"]
 
 #: Exact models a file's ``model`` may name, each a method of its own (``bounds``: ``exact``
 #: found best's routes at the trivial lower bound).
-MODELS = ("setpart", "branchprice", "branchcut", "compact", "cvxpy", "bounds")
+MODELS = ("setpart", "branchprice", "branchcut", "compact", "cvxpy", "bounds", "colgen")
 
 
 def certifier_for(instance: Instance, method: str | None, objective: str, *, model: str | None = None,

@@ -229,8 +229,10 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
     Branch-and-price hands the bound its root proves to PyVRP (a file), which stops as soon
     as its routes meet it: optimal then, and branch-and-price is stopped. This replaces
     :func:`balanced_search`, which takes the same search into this process after the root.
-    ``info["model"]`` is ``branchprice`` (whose bound proves the answer); the message says
-    whose routes these are."""
+    The entrant proves the q-route LP bound first (and answers at once when the warm start
+    meets it). ``info["model"]`` names the bound that proves the answer: ``branchprice``,
+    or ``colgen`` (the q-route LP bound) when branch-and-price's is below the routes; the
+    message says whose routes these are."""
     from milp import branchprice, race
 
     start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
@@ -239,7 +241,10 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
         bound_file = Path(folder) / "bound"
         bound_file.write_text("")
 
+        handed = {"bound": 0}
+
         def hand_over(floor: int, _root_seconds: float) -> None:
+            handed["bound"] = floor
             bound_file.write_text(str(floor))
 
         log.info("exact: branch-and-price, and PyVRP's search for fewer routes in another process after %g s "
@@ -250,16 +255,19 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
             {"tours": problem.tours, "warm_start": start,
              "improve": hand_over},
             time_limit.remaining(), others_after=BRANCHPRICE_FIRST,
-            others_kwargs={"tours": problem.tours, "bound_file": str(bound_file), "seed": seed})
+            others_kwargs={"tours": problem.tours, "bound_file": str(bound_file), "seed": seed, "warm_start": start})
     name, solution = _race_answer(answers, start, "branchprice", lambda a: (a.objective, a.status != "optimal"))
     if name is None:
         return solution
     if solution.bound is not None and len(solution.routes) <= solution.bound:
         solution.status = Status.OPTIMAL
-    solution.info["model"] = "branchprice"
+    own = answers["branchprice"].bound if "branchprice" in answers else None  # absent when another proved it
+    by_branchprice = max(handed["bound"], own or 0)
+    solution.info["model"] = ("colgen" if solution.status is Status.OPTIMAL and len(solution.routes) > by_branchprice
+                              else "branchprice")
     if len(answers) > 1:
         solution.info["message"] = "; ".join(f"{n}: {a.message}" for n, a in answers.items())
-    if name != "branchprice":
+    if name != "branchprice" and solution.routes != start:
         solution.info["message"] = f"routes by PyVRP ({solution.info['message']})"
     return solution
 

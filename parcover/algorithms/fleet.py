@@ -7,7 +7,9 @@ within ``c_p``) and the total length second. ``exact`` runs it beside branch-and
 which hands it the bound its root proves (:func:`race_entrant`,
 :func:`parcover.exact._race_robots`): at 100 KPOIs in rooms and on floor plans it finds
 one route fewer than ``best`` in the same time on some of the building-scale questions
-(``milp/README.md``).
+(``milp/README.md``). Before its search, the entrant proves the q-route LP bound of
+:func:`milp.branchprice.colgen.robots_bound`, which closes in seconds where few long
+routes keep branch-and-price's ng-route root open for minutes.
 
 Integer lengths: PyVRP takes integer distances, so lengths are scaled by ``s`` and rounded
 *up*, and the deadline becomes ``floor(U s) + n + 1``. Each of a route's at most ``n + 1``
@@ -31,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from milp.bounds import robots_lower_bound
+from milp.branchprice import colgen
 from milp.core.result import MilpResult
 from milp.core.routes import ABS_TOL, REL_TOL, route_cost, within
 from milp.core.timelimit import stop_requested
@@ -40,6 +42,9 @@ __all__ = ["fewest_routes", "race_entrant"]
 
 #: Seconds between two reads of the bound file by :func:`race_entrant`.
 BOUND_READ_SECONDS = 0.25
+#: Seconds at most for :func:`race_entrant`'s q-route LP bound (it closed in 3-19 s on the
+#: building-scale questions at 100 KPOIs: ``milp/README.md``).
+QROUTE_SECONDS = 30.0
 
 
 def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float, seed: int = 0,
@@ -96,15 +101,24 @@ def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float
 
 
 def race_entrant(D: np.ndarray, deadline: float, *, tours: bool, bound_file: str, seed: int = 0,
-                 time_limit: float | None = None) -> MilpResult:
+                 time_limit: float | None = None, warm_start: list[list[int]] | None = None) -> MilpResult:
     """:func:`fewest_routes` as an entrant of :func:`milp.race.race_here`, beside
     branch-and-price: it stops as soon as its routes meet the bound branch-and-price has
     proved, which that one writes to ``bound_file`` (an integer; empty until the root is
-    solved), read every :data:`BOUND_READ_SECONDS`. Its answer is ``"optimal"`` then (the
-    bound is proven; the routes are checked here), else ``"feasible"``. Until the root is
-    solved, the bound is the one :func:`milp.bounds.robots_lower_bound` proves."""
+    solved), read every :data:`BOUND_READ_SECONDS`, or the bound proved here first: the
+    q-route LP bound (:func:`milp.branchprice.colgen.robots_bound`, at most
+    :data:`QROUTE_SECONDS`; never below :func:`milp.bounds.robots_lower_bound`'s). Its
+    answer is ``"optimal"`` then (the bound is proven; the routes are checked here), else
+    ``"feasible"``; when ``warm_start`` (branch-and-price's first routes) already meets the
+    q-route bound, those routes, ``"optimal"``, without a search."""
     began = time.perf_counter()
-    cheap = robots_lower_bound(D, deadline, tours=tours, time_limit=time_limit)  # as branch-and-price
+    qroute = colgen.robots_bound(D, deadline, tours=tours,
+                                 time_limit=QROUTE_SECONDS if time_limit is None else min(QROUTE_SECONDS, time_limit))
+    cheap = qroute.robots()
+    proof = f"the q-route LP bound {cheap} ({qroute.bound:.6g} rounded up)"
+    if warm_start and len(warm_start) <= cheap:
+        return MilpResult("optimal", routes=warm_start, objective=float(len(warm_start)), bound=float(cheap),
+                          seconds=time.perf_counter() - began, message=f"{proof} meets the warm start's routes")
     last = {"read": 0.0, "bound": cheap}
 
     def proven() -> int:
@@ -124,6 +138,7 @@ def race_entrant(D: np.ndarray, deadline: float, *, tours: bool, bound_file: str
     last["read"] = 0.0  # the file once more: the root may have ended since the last read
     bound = proven()
     status = "optimal" if len(routes) <= bound else "feasible"
+    whose = proof if bound == cheap else f"branch-and-price's root bound {bound}"
     return MilpResult(status, routes=routes, objective=float(len(routes)), bound=float(bound), seconds=seconds,
-                      message=f"PyVRP's routes meet the proven bound {bound}" if status == "optimal"
+                      message=f"PyVRP's routes meet {whose}" if status == "optimal"
                       else "PyVRP's routes at the time limit")

@@ -100,3 +100,62 @@ def test_exact_takes_pyvrps_routes_when_they_meet_branch_and_prices_bound(monkey
     D = instance.distances
     assert _covers(solution.routes, 35)
     assert all(within(route_cost(D, route, tours=True), problem.deadline) for route in solution.routes)
+
+
+def _uniform_35_tours() -> tuple[np.ndarray, float]:
+    """35 uniform KPOIs, tours within 1.2 x the least makespan: the spanning-tree / clique
+    bound is 3, the q-route LP bound 4 (3.07 rounded up), and 4 is the optimum
+    (branch-and-price proves it in the test below)."""
+    D = generate.random_points(35, 7).distances
+    return D, 1.2 * least_makespan(D, tours=True)
+
+
+def test_the_entrant_proves_the_q_route_bound_before_its_search(tmp_path):
+    """Without a bound from branch-and-price (empty file) the entrant's routes meet the
+    q-route LP bound: optimal; and a warm start that meets it is the answer at once."""
+    from milp import branchprice
+    from milp.bounds import robots_lower_bound
+
+    D, deadline = _uniform_35_tours()
+    assert robots_lower_bound(D, deadline, tours=True) == 3
+    reference = branchprice.min_robots(D, deadline, tours=True, time_limit=120.0)
+    assert reference.status == "optimal" and reference.objective == 4
+    bound_file = tmp_path / "bound"
+    bound_file.write_text("")
+    answer = race_entrant(D, deadline, tours=True, bound_file=str(bound_file), seed=1, time_limit=60.0)
+    assert answer.status == "optimal" and answer.objective == answer.bound == 4
+    assert "q-route LP bound 4" in answer.message and _covers(answer.routes, 35)
+    began = time.perf_counter()
+    warm = race_entrant(D, deadline, tours=True, bound_file=str(bound_file), time_limit=60.0,
+                        warm_start=answer.routes)
+    assert time.perf_counter() - began < 10
+    assert warm.status == "optimal" and warm.routes == answer.routes
+    assert warm.message.endswith("meets the warm start's routes")
+
+
+def _root_proves_three(D, deadline, *, tours, time_limit, warm_start, improve):
+    """A stand-in for branch-and-price whose root proves only 3 routes."""
+    improve(3, 0.0)
+    clock = TimeLimit(time_limit)
+    while not clock.expired() and not stop_requested():
+        time.sleep(0.02)
+    return MilpResult("feasible", warm_start, float(len(warm_start)), 3.0, None, 0, 0.0, "stopped")
+
+
+def test_exact_names_the_q_route_bound_when_it_proves_the_answer(monkeypatch):
+    """Branch-and-price's bound (3, a stand-in) is below the 4 routes; the entrant's
+    q-route bound proves them: ``model`` is ``colgen``, and ``verify --certify`` would
+    re-prove with branch-and-price."""
+    from milp import branchprice, race
+    from parcover.certify import certifier_for
+
+    if race.cores() < 2:
+        pytest.skip("the race needs two cores")
+    monkeypatch.setattr(branchprice, "min_robots", _root_proves_three)
+    D, deadline = _uniform_35_tours()
+    instance = generate.random_points(35, 7)
+    solution = exact_module.exact(instance, Problem("tours", deadline=deadline), time_limit=60.0)
+    assert solution.status == Status.OPTIMAL and len(solution.routes) == 4 and solution.bound == 4
+    assert solution.info["model"] == "colgen"
+    assert all(within(route_cost(D, route, tours=True), deadline) for route in solution.routes)
+    assert certifier_for(instance, "exact", "robots", model="colgen") == "branchprice"
