@@ -20,9 +20,10 @@ independently. Six methods:
   first proof stops the other; one core: ``branchprice`` alone), and above those sizes
   against ``best``'s local search in the same way; for the fewest robots
   above :data:`ROOT_FIRST_MAX` KPOIs, ``branchprice`` here against PyVRP's search for
-  fewer routes in another process, which stops when its routes meet the bound
-  ``branchprice``'s root proved (:func:`_race_robots`; one core: ``best`` looks for
-  them after the root, :func:`balanced_search`);
+  fewer routes in another process, which first proves the q-route LP bound
+  (``info["model"]`` ``"colgen"`` when that proves the answer) and stops when its routes
+  meet that or the bound ``branchprice``'s root proved (:func:`_race_robots`; one core:
+  ``best`` looks for them after the root, :func:`balanced_search`);
   on the first use after installation, when the time limit leaves no room to compile
   ``branchprice``'s pricing (:data:`milp.branchprice.COMPILE_SECONDS`), ``setpart`` to 20
   KPOIs and ``compact`` above;
