@@ -3,11 +3,14 @@
 PyVRP (Wouda, Lan and Kool 2024) minimises fixed vehicle costs plus distance; with one
 vehicle type whose fixed cost exceeds any total length and whose ``max_distance`` is the
 deadline, its search minimises the routes first (the paper's Problem 2, the fewest robots
-within ``c_p``) and the total length second. ``exact`` runs it beside branch-and-price,
-which hands it the bound its root proves (:func:`race_entrant`,
-:func:`parcover.exact._race_robots`): at 100 KPOIs in rooms and on floor plans it finds
-one route fewer than ``best`` in the same time on some of the building-scale questions
-(``milp/README.md``). Before its search, the entrant proves the q-route LP bound of
+within ``c_p``) and the total length second. The fleet is squeezed as PyVRP's own
+``minimise_fleet`` does: each search has one vehicle fewer than the fewest routes found
+so far and stops at its first routes within the deadline, so the search is always for a
+count not yet reached (the fixed cost alone found one route fewer than ``best`` on some
+building-scale questions, the squeeze found one fewer again on two of the questions it
+left open: ``milp/README.md``). ``exact`` runs it beside branch-and-price, which hands it
+the bound its root proves (:func:`race_entrant`, :func:`parcover.exact._race_robots`).
+Before its search, the entrant proves the q-route LP bound of
 :func:`milp.branchprice.colgen.robots_bound`, which closes in seconds where few long
 routes keep branch-and-price's ng-route root open for minutes.
 
@@ -30,6 +33,7 @@ import time
 import warnings
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -48,14 +52,50 @@ QROUTE_SECONDS = 30.0
 
 
 def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float, seed: int = 0,
-                  floor: int | Callable[[], int] = 1) -> list[list[int]] | None:
+                  floor: int | Callable[[], int] = 1, start: list[list[int]] | None = None) -> list[list[int]] | None:
     """Routes covering KPOIs ``1..n`` of ``D``, each within ``deadline``, as few as PyVRP
-    finds in ``seconds``; it stops early at ``floor`` routes (a proven bound, or a function
-    returning the bound proven so far), or when asked to
-    (:func:`milp.core.timelimit.stop_requested`). ``None`` when it finds no routes within
-    the deadline."""
+    finds in ``seconds``, or ``start`` (routes within the deadline) when it finds none
+    fewer; ``None`` when there are neither.
+
+    The fleet is squeezed as PyVRP's ``minimise_fleet`` does: each search has one vehicle
+    fewer than the fewest routes found so far and ends at its first routes within the
+    deadline (the first search, without ``start``, has a vehicle per KPOI). It stops at
+    ``floor`` routes (a proven bound, or a function returning the bound proven so far),
+    when asked to (:func:`milp.core.timelimit.stop_requested`), or when a search finds
+    nothing in the time left."""
+    from pyvrp import solve
+    from pyvrp.stop import FirstFeasible, MaxRuntime, MultipleCriteria
+
+    began = time.perf_counter()
+    data = _pyvrp_data(D, deadline, tours=tours)
+    best = start
+    proven = floor if callable(floor) else lambda: floor
+    while not stop_requested():
+        fleet = len(D) - 1 if best is None else len(best) - 1
+        left = seconds - (time.perf_counter() - began)
+        if fleet < proven() or left <= 0:
+            break
+
+        def met(_cost: int, fleet: int = fleet) -> bool:  # the routes so far are proven, or a stop is asked
+            return stop_requested() or fleet < proven()
+
+        squeezed = data.replace(vehicle_types=[data.vehicle_type(0).replace(num_available=fleet)])
+        with warnings.catch_warnings():  # its penalty warnings speak of its own parameters
+            warnings.simplefilter("ignore")
+            result = solve(squeezed, MultipleCriteria([MaxRuntime(left), FirstFeasible(), met]),
+                           seed=seed, display=False, collect_stats=False)
+        routes = _routes_within(result.best, D, deadline, tours=tours)
+        if routes is None:
+            break
+        best = routes
+    return best
+
+
+def _pyvrp_data(D: np.ndarray, deadline: float, *, tours: bool) -> Any:
+    """PyVRP's problem data for the routes within ``deadline`` over ``D`` (module docstring:
+    integer lengths, a second depot ending the paths), with a vehicle per KPOI whose fixed
+    cost exceeds any total length, so that fewer routes always cost less."""
     from pyvrp import Model
-    from pyvrp.stop import MaxRuntime, MultipleCriteria
 
     n = len(D) - 1
     scale = 2 * (n + 1) / (deadline * REL_TOL + ABS_TOL)
@@ -81,15 +121,12 @@ def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float
         for j in range(n + 1):
             if i != j:
                 model.add_edge(points[i], points[j], distance=int(arcs[i, j]))
+    return model.data()
 
-    def enough(cost: float) -> bool:  # or asked to stop: a race's rival proved it, or Ctrl-C
-        return stop_requested() or cost < ((floor() if callable(floor) else floor) + 1) * fixed
 
-    with warnings.catch_warnings():  # its penalty warnings speak of its own parameters
-        warnings.simplefilter("ignore")
-        result = model.solve(MultipleCriteria([MaxRuntime(max(seconds, 0.0)), enough]), seed=seed, display=False,
-                             collect_stats=False)
-    found = result.best
+def _routes_within(found: Any, D: np.ndarray, deadline: float, *, tours: bool) -> list[list[int]] | None:
+    """The KPOI routes of PyVRP's solution ``found``, or ``None`` unless it is complete and
+    every route is within ``deadline`` in floats."""
     if not (found.is_feasible() and found.is_complete()):
         return None
     # Client activities count the clients from 0 in the order added: KPOI i is client i - 1.
@@ -131,7 +168,7 @@ def race_entrant(D: np.ndarray, deadline: float, *, tours: bool, bound_file: str
 
     left = None if time_limit is None else time_limit - (time.perf_counter() - began)
     routes = fewest_routes(D, deadline, tours=tours, seconds=1e9 if left is None else left,
-                           seed=seed, floor=proven)
+                           seed=seed, floor=proven, start=warm_start)
     seconds = time.perf_counter() - began
     if routes is None:
         return MilpResult("unknown", seconds=seconds, message="PyVRP found no routes within the deadline")

@@ -38,6 +38,26 @@ def test_the_fewest_routes_match_set_partitioning_on_small_instances(seed, tours
     assert len(routes) == optimum.objective
 
 
+@pytest.mark.parametrize("tours", [False, True])
+def test_the_squeeze_goes_down_from_the_start_to_the_floor(tours):
+    """From a route per KPOI (each within the deadline, since it is at least ``c_max``),
+    the squeeze reaches setpart's proven optimum; with the optimum as the floor it ends
+    there; with the start's own count as the floor it returns the start untouched."""
+    D = generate.random_points(10, 4).distances
+    deadline = 1.2 * least_makespan(D, tours=tours)
+    optimum = setpart.min_robots(D, deadline, tours=tours)
+    assert optimum.status == "optimal"
+    singles = [[k] for k in range(1, 11)]
+    routes = fewest_routes(D, deadline, tours=tours, seconds=3.0, start=singles)
+    assert routes is not None and _covers(routes, 10) and len(routes) == optimum.objective
+    assert all(within(route_cost(D, route, tours=tours), deadline) for route in routes)
+    floored = fewest_routes(D, deadline, tours=tours, seconds=60.0, start=singles, floor=int(optimum.objective))
+    assert floored is not None and len(floored) == optimum.objective
+    began = time.perf_counter()
+    assert fewest_routes(D, deadline, tours=tours, seconds=60.0, start=singles, floor=10) is singles
+    assert time.perf_counter() - began < 5
+
+
 def test_a_route_exactly_as_long_as_the_deadline_is_kept():
     """KPOIs on a line at 0.1, 0.3 and 0.7 from the start: one path of length 0.7 (as
     0.1 + 0.2 + 0.4 in floats) at the deadline 0.7 = c_max. Scaled lengths rounded up
