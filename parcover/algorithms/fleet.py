@@ -3,14 +3,14 @@
 PyVRP (Wouda, Lan and Kool 2024) minimises fixed vehicle costs plus distance; with one
 vehicle type whose fixed cost exceeds any total length and whose ``max_distance`` is the
 deadline, its search minimises the routes first (the paper's Problem 2, the fewest robots
-within ``c_p``) and the total length second. The fleet is squeezed as PyVRP's own
-``minimise_fleet`` does: each search has one vehicle fewer than the fewest routes found
-so far and stops at its first routes within the deadline, so the search is always for a
-count not yet reached (the fixed cost alone found one route fewer than ``best`` on some
-building-scale questions, the squeeze found one fewer again on two of the questions it
-left open: ``milp/README.md``). ``exact`` runs it beside branch-and-price, which hands it
-the bound its root proves (:func:`race_entrant`, :func:`parcover.exact._race_robots`).
-Before its search, the entrant proves the q-route LP bound of
+within ``c_p``) and the total length second. Before that search, the fleet is squeezed
+as PyVRP's own ``minimise_fleet`` does: searches with one vehicle fewer than the fewest
+routes found so far, each ending at its first routes within the deadline (or after a few
+seconds). The two find different routes: on the building-scale questions the squeeze found
+one route fewer in about a second on two the other search had left open for 100 s, and
+missed routes the other search found on two more (``milp/README.md``). ``exact`` runs
+them beside branch-and-price, which hands them the bound its root proves
+(:func:`race_entrant`, :func:`parcover.exact._race_robots`). Before them, the entrant proves the q-route LP bound of
 :func:`milp.branchprice.colgen.robots_bound`, which closes in seconds where few long
 routes keep branch-and-price's ng-route root open for minutes.
 
@@ -49,6 +49,11 @@ BOUND_READ_SECONDS = 0.25
 #: Seconds at most for :func:`race_entrant`'s q-route LP bound (it closed in 3-19 s on the
 #: building-scale questions at 100 KPOIs: ``milp/README.md``).
 QROUTE_SECONDS = 30.0
+#: Seconds at most for each search of :func:`fewest_routes`' squeeze: where it found one
+#: route fewer than the search over the whole fleet, it did so in 0.8-1.2 s, and where the
+#: latter found routes the squeeze did not, the squeeze searched for 100 s in vain
+#: (``milp/README.md``).
+SQUEEZE_SECONDS = 5.0
 
 
 def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float, seed: int = 0,
@@ -57,38 +62,52 @@ def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float
     finds in ``seconds``, or ``start`` (routes within the deadline) when it finds none
     fewer; ``None`` when there are neither.
 
-    The fleet is squeezed as PyVRP's ``minimise_fleet`` does: each search has one vehicle
-    fewer than the fewest routes found so far and ends at its first routes within the
-    deadline (the first search, without ``start``, has a vehicle per KPOI). It stops at
-    ``floor`` routes (a proven bound, or a function returning the bound proven so far),
-    when asked to (:func:`milp.core.timelimit.stop_requested`), or when a search finds
-    nothing in the time left."""
-    from pyvrp import solve
-    from pyvrp.stop import FirstFeasible, MaxRuntime, MultipleCriteria
-
+    First the fleet is squeezed as PyVRP's ``minimise_fleet`` does: each search has one
+    vehicle fewer than the fewest routes found so far (a vehicle per KPOI without
+    ``start``) and ends at its first routes within the deadline, or after
+    :data:`SQUEEZE_SECONDS`; then PyVRP's search over the whole fleet, whose fixed costs
+    rank fewer routes first, has the time left. Both stop at ``floor`` routes (a proven
+    bound, or a function returning the bound proven so far), and when asked to
+    (:func:`milp.core.timelimit.stop_requested`)."""
     began = time.perf_counter()
     data = _pyvrp_data(D, deadline, tours=tours)
-    best = start
+    fixed = data.vehicle_type(0).fixed_cost
     proven = floor if callable(floor) else lambda: floor
-    while not stop_requested():
+    best = start
+
+    def left() -> float:
+        return seconds - (time.perf_counter() - began)
+
+    def settled() -> bool:  # the routes so far meet the proven bound, or the time is up
+        return stop_requested() or left() <= 0 or (best is not None and len(best) <= proven())
+
+    while not settled():
         fleet = len(D) - 1 if best is None else len(best) - 1
-        left = seconds - (time.perf_counter() - began)
-        if fleet < proven() or left <= 0:
-            break
-
-        def met(_cost: int, fleet: int = fleet) -> bool:  # the routes so far are proven, or a stop is asked
-            return stop_requested() or fleet < proven()
-
-        squeezed = data.replace(vehicle_types=[data.vehicle_type(0).replace(num_available=fleet)])
-        with warnings.catch_warnings():  # its penalty warnings speak of its own parameters
-            warnings.simplefilter("ignore")
-            result = solve(squeezed, MultipleCriteria([MaxRuntime(left), FirstFeasible(), met]),
-                           seed=seed, display=False, collect_stats=False)
-        routes = _routes_within(result.best, D, deadline, tours=tours)
+        squeezed = _solve(data.replace(vehicle_types=[data.vehicle_type(0).replace(num_available=fleet)]),
+                          min(left(), SQUEEZE_SECONDS), seed, first=True, done=lambda _cost: settled())
+        routes = _routes_within(squeezed, D, deadline, tours=tours)
         if routes is None:
             break
         best = routes
-    return best
+    if settled():
+        return best
+    # Fewer routes than the bound's successor cost less than (bound + 1) fixed costs.
+    found = _solve(data, left(), seed, first=False,
+                   done=lambda cost: settled() or cost < (proven() + 1) * fixed)
+    routes = _routes_within(found, D, deadline, tours=tours)
+    return routes if routes is not None and (best is None or len(routes) < len(best)) else best
+
+
+def _solve(data: Any, seconds: float, seed: int, *, first: bool, done: Callable[[int], bool]) -> Any:
+    """PyVRP's best solution of ``data`` after ``seconds``, or once ``done`` (given the best
+    cost) says so, or at its first solution within the deadline when ``first``."""
+    from pyvrp import solve
+    from pyvrp.stop import FirstFeasible, MaxRuntime, MultipleCriteria
+
+    stops = [MaxRuntime(max(seconds, 0.0)), done] + ([FirstFeasible()] if first else [])
+    with warnings.catch_warnings():  # its penalty warnings speak of its own parameters
+        warnings.simplefilter("ignore")
+        return solve(data, MultipleCriteria(stops), seed=seed, display=False, collect_stats=False).best
 
 
 def _pyvrp_data(D: np.ndarray, deadline: float, *, tours: bool) -> Any:
