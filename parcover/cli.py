@@ -24,7 +24,7 @@ from parcover import generate as gen
 from parcover.certify import Certificate, verify
 from parcover.errors import InputError
 from parcover.frontier import frontier
-from parcover.result import Result
+from parcover.result import Result, plural
 from parcover.instance import Instance
 from parcover.io import FileFormatError, read_instance, read_json, write_instance, write_text_atomic
 from parcover.question import load as load_question
@@ -192,7 +192,7 @@ def _verify(args: argparse.Namespace) -> int:
         print(f"no routes, status {status}")
         return _certificate_status(verdict.certificate, stopped)
     summary = (
-        f"{verdict.robots} robot{'s' if verdict.robots != 1 else ''}, makespan {verdict.makespan:.10g}"
+        f"{plural(verdict.robots, 'robot')}, makespan {verdict.makespan:.10g}"
         f" ({verdict.routes_kind})"
     )
     if not verdict.valid:

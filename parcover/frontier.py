@@ -15,7 +15,7 @@ from collections.abc import Callable
 from milp.core.timelimit import interrupted
 from parcover.instance import Instance
 from parcover.problem import Problem, meets_deadline
-from parcover.result import Frontier, FrontierPoint, Result, RoutesKind
+from parcover.result import Frontier, FrontierPoint, Result, RoutesKind, plural
 from parcover.solve import INTERRUPTED, available_methods, solve
 
 __all__ = ["frontier"]
@@ -54,7 +54,6 @@ def frontier(
         if result.makespan is not None and meets_deadline(result.makespan, least):
             break
         if interrupted():
-            robots = f"{k} robot{'s' if k > 1 else ''}"
-            note = f"{INTERRUPTED} at {robots}: the points end before the least possible makespan"
+            note = f"{INTERRUPTED} at {plural(k, 'robot')}: the points end before the least possible makespan"
             break
     return Frontier(instance.name, routes, method, points, time.perf_counter() - started, note)

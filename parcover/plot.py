@@ -30,7 +30,7 @@ from matplotlib.figure import Figure
 from matplotlib.transforms import offset_copy
 
 from parcover.instance import Instance
-from parcover.result import Frontier, Result, Status
+from parcover.result import Frontier, Result, Status, plural
 
 __all__ = [
     "plot_routes",
@@ -87,10 +87,10 @@ def answer_text(result: Result, unit: str) -> str:
     metres = " m" if unit == "m" else ""
     text = f"{result.method}: {result.status.value}"
     if result.makespan is not None:
-        text += f", {_plural(result.robots or 0, 'robot')}, makespan {result.makespan:.4g}{metres}"
+        text += f", {plural(result.robots or 0, 'robot')}, makespan {result.makespan:.4g}{metres}"
     if result.status is Status.FEASIBLE and result.bound is not None:
         robots = result.objective == "robots"
-        text += f", proven bound {_plural(int(result.bound), 'robot') if robots else f'{result.bound:.4g}{metres}'}"
+        text += f", proven bound {plural(int(result.bound), 'robot') if robots else f'{result.bound:.4g}{metres}'}"
     return text if metres or result.makespan is None else f"{text} ({unit})"
 
 
@@ -100,10 +100,6 @@ def route_title(instance: Instance, result: Result, caption: str | None = None) 
     lines = [caption] if caption else []
     lines += [f"{instance.name or 'unnamed instance'}: {question_text(result, unit)}", answer_text(result, unit)]
     return "\n".join(textwrap.fill(line, TITLE_WIDTH) for line in lines)
-
-
-def _plural(count: int, noun: str) -> str:
-    return f"{count} {noun}{'' if count == 1 else 's'}"
 
 
 # -- positions and legs ------------------------------------------------------------------
@@ -506,7 +502,7 @@ def draw_frontier(
     ax.set_xlabel("robots")
     ax.set_ylabel(f"makespan ({unit})")
     name = frontier.instance or "unnamed instance"
-    ended = f"; stopped by Ctrl-C at {_plural(frontier.points[-1].robots, 'robot')}" if frontier.note else ""
+    ended = f"; stopped by Ctrl-C at {plural(frontier.points[-1].robots, 'robot')}" if frontier.note else ""
     ax.set_title(f"{name}: least makespan per number of robots ({frontier.routes_kind})\n"
                  f"frontier by {frontier.method}{ended}", fontsize=9)
     ax.grid(alpha=0.3)
@@ -546,8 +542,8 @@ def draw_gap_distribution(frame: Any, ax: Axes | None = None) -> Axes:
     ax.set_ylabel("gap to optimum (%)")
     references = ", ".join(dict.fromkeys(frame["reference"].astype(str))) or "-"
     kinds = " and ".join(dict.fromkeys(frame["routes"].astype(str)))
-    title = (f"Gap to the optimum ({references}) per method: {_plural(frame['instance'].nunique(), 'instance')}, "
-             f"{kinds}, {_plural(frame['question'].nunique(), 'question')} ({len(rows)} answers with a gap)")
+    title = (f"Gap to the optimum ({references}) per method: {plural(frame['instance'].nunique(), 'instance')}, "
+             f"{kinds}, {plural(frame['question'].nunique(), 'question')} ({len(rows)} answers with a gap)")
     ax.set_title(textwrap.fill(title, TITLE_WIDTH), fontsize=9)
     ax.grid(alpha=0.3, axis="y")
     return ax

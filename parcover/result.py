@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any, Literal
 
-__all__ = ["Status", "Result", "Frontier", "FrontierPoint", "RoutesKind", "Objective", "gap"]
+__all__ = ["Status", "Result", "Frontier", "FrontierPoint", "RoutesKind", "Objective", "gap", "plural"]
 
 RoutesKind = Literal["paths", "tours"]
 Objective = Literal["makespan", "robots"]
@@ -162,7 +162,7 @@ class Result:
         """One line: status, value and bound with their units, gap (or the note)."""
         if not self.routes:
             return f"{self.status.value}" + (f": {self.note}" if self.note else "")
-        value = (f"{self.robots} robot{'s' if self.robots != 1 else ''}" if self.objective == "robots"
+        value = (plural(self.robots, "robot") if self.objective == "robots"
                  else f"makespan {_num(self.makespan)}")
         gap_text = f"{100 * self.gap:.4g}%" if self.gap is not None else "-"
         return f"{self.status.value}: {value}, bound {self._bound_text()}, gap {gap_text}"
@@ -269,6 +269,11 @@ def _json_lines(data: dict[str, Any]) -> str:
     """A JSON object with one top-level key per line and compact values."""
     body = ",\n".join(f"  {json.dumps(k)}: {json.dumps(v, allow_nan=False)}" for k, v in data.items())
     return "{\n" + body + "\n}"
+
+
+def plural(count: int, noun: str) -> str:
+    """``count`` and ``noun``, with an ``s`` unless ``count`` is 1: "1 robot", "3 robots"."""
+    return f"{count} {noun}{'' if count == 1 else 's'}"
 
 
 def _num(x: float | None) -> str:
