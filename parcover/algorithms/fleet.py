@@ -10,9 +10,10 @@ seconds). The two find different routes: on the building-scale questions the squ
 one route fewer in about a second on two the other search had left open for 100 s, and
 missed routes the other search found on two more (``milp/README.md``). ``exact`` runs
 them beside branch-and-price, which hands them the bound its root proves
-(:func:`race_entrant`, :func:`parcover.exact._race_robots`). Before them, the entrant proves the q-route LP bound of
-:func:`milp.branchprice.colgen.robots_bound`, which closes in seconds where few long
-routes keep branch-and-price's ng-route root open for minutes.
+(:func:`race_entrant`, :func:`parcover.exact._race_robots`). Before them, the entrant
+proves the q-route LP bound of :func:`milp.branchprice.colgen.robots_bound`, which
+closes in seconds where few long routes keep branch-and-price's ng-route root open for
+minutes.
 
 Integer lengths: PyVRP takes integer distances, so lengths are scaled by ``s`` and rounded
 *up*, and the deadline becomes ``floor(U s) + n + 1``. Each of a route's at most ``n + 1``
@@ -57,7 +58,8 @@ SQUEEZE_SECONDS = 5.0
 
 
 def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float, seed: int = 0,
-                  floor: int | Callable[[], int] = 1, start: list[list[int]] | None = None) -> list[list[int]] | None:
+                  floor: int | Callable[[], int] = 1,
+                  start: list[list[int]] | None = None) -> list[list[int]] | None:
     """Routes covering KPOIs ``1..n`` of ``D``, each within ``deadline``, as few as PyVRP
     finds in ``seconds``, or ``start`` (routes within the deadline) when it finds none
     fewer; ``None`` when there are neither.
