@@ -29,8 +29,9 @@ bound, and the node is closed as soon as its rounded-up bound exceeds the target
 are kept in one pool for the whole search (:class:`milp.branchprice.columns.Pool`; every node and
 every budget reuses those that fit). Pricing is heuristic first (fast dominance) and
 exact only when the heuristic finds nothing, and the duals are smoothed towards the best
-certificate so far (Wentges 1997, Int. Trans. Oper. Res. 4); a smoothed round that prices
-out nothing for the true duals is repeated with the true duals.
+certificate so far (Wentges 1997, Int. Trans. Oper. Res. 4), and before any certificate
+exists towards their own moving average (Neame's smoothing, :data:`NEAME_SMOOTHING`); a
+smoothed round that prices out nothing for the true duals is repeated with the true duals.
 A heuristic pricing certifies a (weaker) bound too: the pricing's completion table bounds
 every elementary route's prize (:func:`milp.branchprice.ngroute.walk_bound`), and Farley's
 bound with that maximum is valid (:data:`PRIZE_BOUND_CERTIFICATES`; so is an exact pricing's
