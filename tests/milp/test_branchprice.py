@@ -159,6 +159,22 @@ def crossing_routes() -> tuple[branchprice.BranchAndPrice, branchprice.LpOutcome
     return search, outcome
 
 
+def test_pricing_duals_are_smoothed_first_and_the_true_duals_priced_last():
+    """The order of :meth:`BranchAndPrice._duals_to_try`, worked by hand: without a
+    stability center, a heuristic pricing at the moving average first (Neame), none on the
+    first round; with one, the Wentges point (half center, half duals) heuristically and
+    exactly; in every case the true duals last, exactly (they decide that the LP is
+    solved)."""
+    search, _ = crossing_routes()
+    duals, moving, center = np.array([1.0, 0.0]), np.array([0.0, 1.0]), np.array([0.0, 3.0])
+    order = [(y.tolist(), exact) for y, exact in search._duals_to_try(duals, None, None)]
+    assert order == [([1.0, 0.0], False), ([1.0, 0.0], True)]
+    order = [(y.tolist(), exact) for y, exact in search._duals_to_try(duals, None, moving)]
+    assert order == [([0.0, 1.0], False), ([1.0, 0.0], False), ([1.0, 0.0], True)]
+    order = [(y.tolist(), exact) for y, exact in search._duals_to_try(duals, center, moving)]
+    assert order == [([0.5, 1.5], False), ([0.5, 1.5], True), ([1.0, 0.0], False), ([1.0, 0.0], True)]
+
+
 def test_crossing_routes_have_no_arc_to_branch_on_but_their_columns_cover():
     search, outcome = crossing_routes()
     assert search.fractional_arcs(outcome) == []
