@@ -50,11 +50,13 @@ BOUND_READ_SECONDS = 0.25
 #: Seconds at most for :func:`race_entrant`'s q-route LP bound (it closed in 3-19 s on the
 #: building-scale questions at 100 KPOIs: ``milp/README.md``).
 QROUTE_SECONDS = 30.0
-#: Seconds at most for each search of :func:`fewest_routes`' squeeze: where it found one
-#: route fewer than the search over the whole fleet, it did so in 0.8-1.2 s, and where the
-#: latter found routes the squeeze did not, the squeeze searched for 100 s in vain
-#: (``milp/README.md``).
-SQUEEZE_SECONDS = 5.0
+#: Seconds at most for each search of :func:`fewest_routes`' squeeze, and the searches (each
+#: with the next seed) at one fleet size before the squeeze gives up: where it found one
+#: route fewer than the search over the whole fleet, it did so in 0.3-1.7 s, but only from
+#: some seeds (clustered seed 2 tours within ``2 c_max``, 8 tours: nothing from seed 0 in
+#: 20 s, found from seeds 1, 2 and 3), and where the latter found routes the squeeze did
+#: not, the squeeze searched for 100 s in vain (``milp/README.md``).
+SQUEEZE_SECONDS, SQUEEZE_SEARCHES = 2.0, 4
 
 
 def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float, seed: int = 0,
@@ -67,7 +69,8 @@ def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float
     First the fleet is squeezed as PyVRP's ``minimise_fleet`` does: each search has one
     vehicle fewer than the fewest routes found so far (a vehicle per KPOI without
     ``start``) and ends at its first routes within the deadline, or after
-    :data:`SQUEEZE_SECONDS`; then PyVRP's search over the whole fleet, whose fixed costs
+    :data:`SQUEEZE_SECONDS`, when the next of :data:`SQUEEZE_SEARCHES` seeds tries that
+    fleet again; then PyVRP's search over the whole fleet, whose fixed costs
     rank fewer routes first, has the time left. Both stop at ``floor`` routes (a proven
     bound, or a function returning the bound proven so far), and when asked to
     (:func:`milp.core.timelimit.stop_requested`)."""
@@ -83,14 +86,16 @@ def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float
     def settled() -> bool:  # the routes so far meet the proven bound, or the time is up
         return stop_requested() or left() <= 0 or (best is not None and len(best) <= proven())
 
-    while not settled():
+    searches = 0  # at this fleet size
+    while not settled() and searches < SQUEEZE_SEARCHES:
         fleet = len(D) - 1 if best is None else len(best) - 1
         squeezed = _solve(data.replace(vehicle_types=[data.vehicle_type(0).replace(num_available=fleet)]),
-                          min(left(), SQUEEZE_SECONDS), seed, first=True, done=lambda _cost: settled())
+                          min(left(), SQUEEZE_SECONDS), seed + searches, first=True, done=lambda _cost: settled())
         routes = _routes_within(squeezed, D, deadline, tours=tours)
         if routes is None:
-            break
-        best = routes
+            searches += 1
+        else:
+            best, searches = routes, 0
     if settled():
         return best
     # Fewer routes than the bound's successor cost less than (bound + 1) fixed costs.

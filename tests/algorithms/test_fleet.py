@@ -58,6 +58,41 @@ def test_the_squeeze_goes_down_from_the_start_to_the_floor(tours):
     assert time.perf_counter() - began < 5
 
 
+def test_a_squeeze_that_finds_nothing_tries_the_next_seeds(monkeypatch):
+    """The first search at each fleet size finds nothing (as PyVRP from an unlucky seed):
+    the squeeze tries that fleet again with the next seed, so it still reaches setpart's
+    optimum; one vehicle fewer than that (no routes exist) it gives up after
+    :data:`SQUEEZE_SEARCHES` searches, seeds 0, 1, 2, ..., and the search over the whole
+    fleet has the time left."""
+    from parcover.algorithms import fleet
+
+    D = generate.random_points(10, 4).distances
+    deadline = 1.2 * least_makespan(D, tours=False)
+    optimum = int(setpart.min_robots(D, deadline, tours=False).objective)
+    solve, searches = fleet._solve, []
+
+    def unlucky_first(data, seconds, seed, *, first, done):
+        size = data.vehicle_type(0).num_available
+        searches.append((size, seed, first))
+        found = solve(data, seconds, seed, first=first, done=done)
+        return found if not first or [s for s, _, _ in searches].count(size) > 1 else _Nothing()
+
+    monkeypatch.setattr(fleet, "_solve", unlucky_first)
+    monkeypatch.setattr(fleet, "SQUEEZE_SECONDS", 0.2)
+    routes = fewest_routes(D, deadline, tours=False, seconds=8.0, start=[[k] for k in range(1, 11)])
+    assert routes is not None and _covers(routes, 10) and len(routes) == optimum
+    assert searches[:2] == [(9, 0, True), (9, 1, True)]  # the fleet of 9 again, with the next seed
+    assert [seed for size, seed, _ in searches if size == optimum - 1] == list(range(fleet.SQUEEZE_SEARCHES))
+    assert searches[-1][2] is False  # then the whole fleet
+
+
+class _Nothing:
+    """A PyVRP result without routes within the deadline."""
+
+    def is_feasible(self) -> bool:
+        return False
+
+
 def test_a_route_exactly_as_long_as_the_deadline_is_kept():
     """KPOIs on a line at 0.1, 0.3 and 0.7 from the start: one path of length 0.7 (as
     0.1 + 0.2 + 0.4 in floats) at the deadline 0.7 = c_max. Scaled lengths rounded up
