@@ -227,8 +227,9 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
     in this process for the whole time limit, and, unless it has proved the answer within
     :data:`BRANCHPRICE_FIRST` seconds, PyVRP's search for the fewest routes in another
     process (:func:`parcover.algorithms.fleet.race_entrant`, :func:`milp.race.race_here`).
-    Branch-and-price hands the bound its root proves to PyVRP (a file), which stops as soon
-    as its routes meet it: optimal then, and branch-and-price is stopped. This replaces
+    Branch-and-price hands the bound its root proves to PyVRP (a file), as soon as a
+    certificate proves it (before the root LP is solved), and PyVRP stops as soon as its
+    routes meet it: optimal then, and branch-and-price is stopped. This replaces
     :func:`balanced_search`, which takes the same search into this process after the root.
     The entrant proves the q-route LP bound first (and answers at once when the warm start
     meets it). ``info["model"]`` names the bound that proves the answer: ``branchprice``,
@@ -244,9 +245,13 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
 
         handed = {"bound": 0}
 
+        def proven(floor: int) -> None:
+            if floor > handed["bound"]:
+                handed["bound"] = floor
+                bound_file.write_text(str(floor))
+
         def hand_over(floor: int, _root_seconds: float) -> None:
-            handed["bound"] = floor
-            bound_file.write_text(str(floor))
+            proven(floor)
 
         log.info("exact: branch-and-price, and PyVRP's search for fewer routes in another process after %g s "
                  "unless proven by then", BRANCHPRICE_FIRST)
@@ -254,7 +259,7 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
             "branchprice", branchprice.min_robots, {"pyvrp": "parcover.algorithms.fleet:race_entrant"},
             (instance.distances, deadline),
             {"tours": problem.tours, "warm_start": start,
-             "improve": hand_over},
+             "improve": hand_over, "proven": proven},
             time_limit.remaining(), others_after=BRANCHPRICE_FIRST,
             others_kwargs={"tours": problem.tours, "bound_file": str(bound_file), "seed": seed, "warm_start": start})
     name, solution = _race_answer(answers, start, "branchprice", lambda a: (a.objective, a.status != "optimal"))

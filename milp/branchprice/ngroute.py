@@ -103,6 +103,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -236,6 +237,7 @@ class Pricing:
         cut_bits: np.ndarray | None = None,
         cut_memory: np.ndarray | None = None,
         penalties: np.ndarray | None = None,
+        certified: Callable[[float], None] | None = None,
     ) -> PricingResult:
         """Routes within ``budget`` with prize above ``threshold``, and the largest prize.
 
@@ -268,6 +270,11 @@ class Pricing:
         penalties : numpy.ndarray, optional
             ``(MAX_CUTS,)`` non-negative: a route loses ``penalties[t]`` of prize each time
             :func:`cut_coefficients` counts a pair for cut ``t`` (minus the cut's dual).
+        certified : callable, optional
+            Called, during an exact pricing, with the bound on every elementary route's
+            prize that each complete labelling certifies (the value
+            :attr:`PricingResult.prize_bound` would have if the pricing stopped there), so
+            that a caller can use it before a long pricing ends.
         """
         prize, allowed, can_end = (compiled_layout(prize, np.float64), compiled_layout(allowed, np.bool_),
                                    compiled_layout(can_end, np.bool_))
@@ -299,6 +306,8 @@ class Pricing:
                 return PricingResult(float(best), routes, False, int(total), prize_bound)
             if complete:  # a relaxation of the elementary routes, labelled to the end
                 prize_bound = min(prize_bound, float(best))
+                if certified is not None:
+                    certified(prize_bound)
             labellings += 1
             if progress.due():
                 log.info("exact pricing: %d labellings so far (ng-memories growing), best route prize %.6g "

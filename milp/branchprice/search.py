@@ -101,7 +101,7 @@ from __future__ import annotations
 import logging
 import math
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -269,6 +269,10 @@ class BranchAndPrice:
         self.enumeration_gap = ENUMERATION_GAP  # enumerate at nodes with a smaller LP gap (all decisions)
         self.makespan_bound = 0.0  # a lower bound on the least makespan (for min_makespan)
         self.prize_bound_raised = 0  # bounds raised by certificates of pricings not exact
+        #: Called with the fewest routes each certificate at the root proves, as soon as one
+        #: proves more than the last (:meth:`_root_certified`); None: nobody listens.
+        self.root_bound_listener: Callable[[int], None] | None = None
+        self.root_bound_told = 0
         self.progress = Every(log)  # column generation's progress lines (--log)
 
     @contextmanager
@@ -293,12 +297,15 @@ class BranchAndPrice:
     def price(self, prize: np.ndarray, budget: float, node: Node, *, exact: bool,
               threshold: float = 1.0, cut_bits: np.ndarray | None = None,
               cut_memory: np.ndarray | None = None,
-              penalties: np.ndarray | None = None) -> ngroute.PricingResult:
-        """One pricing at ``node``, stopped by the search's time limit."""
+              penalties: np.ndarray | None = None,
+              certified: Callable[[float], None] | None = None) -> ngroute.PricingResult:
+        """One pricing at ``node``, stopped by the search's time limit (``certified``: as
+        :meth:`milp.branchprice.ngroute.Pricing.price`)."""
         return self.pricing.price(prize, budget, allowed=node.allowed, can_end=node.allowed[:, 0],
                                   exact=exact, threshold=threshold,
                                   ends_at=math.inf if self.ends_at is None else self.ends_at,
-                                  cut_bits=cut_bits, cut_memory=cut_memory, penalties=penalties)
+                                  cut_bits=cut_bits, cut_memory=cut_memory, penalties=penalties,
+                                  certified=certified)
 
     def _master(self, columns: list[int]) -> highspy.Highs:
         """The LP (1)-(2) over ``columns`` of the pool, with the subset-row cuts (5)."""
@@ -395,7 +402,8 @@ class BranchAndPrice:
             smoothed = duals if previous is None else NEAME_SMOOTHING * previous + (1 - NEAME_SMOOTHING) * duals
             for y, exact in self._duals_to_try(duals, center, None if previous is None else smoothed):
                 res = self._price_duals(y, budget, node, exact=exact,
-                                        threshold=self._closing_prize(y, target) if exact else 1.0)
+                                        threshold=self._closing_prize(y, target) if exact else 1.0,
+                                        certified=self._root_listener(node, y))
                 if res.exact:
                     certified = self._farley(y, res.best)
                     if certified > bound:
@@ -406,6 +414,8 @@ class BranchAndPrice:
                     if certified > max(weak, bound):
                         weak, weak_duals = certified, y / max(res.prize_bound, 1.0)
                         self.prize_bound_raised += 1
+                if node.depth == 0:
+                    self._root_certified(max(bound, weak))
                 if rounded_up(max(bound, weak)) > target:
                     return outcome(Why.CLOSED)
                 useful = [r for r in res.routes if self._route_value(r, duals) > 1 + PRICES_OUT]
@@ -420,6 +430,23 @@ class BranchAndPrice:
                 why = (Why.SOLVED if bound >= value * (1 - LP_SOLVED)
                        else Why.TIME_LIMIT if self.out_of_time() else Why.STALLED)
                 return outcome(why, h)
+
+    def _root_listener(self, node: Node, y: np.ndarray) -> Callable[[float], None] | None:
+        """For a pricing at the root with duals ``y``, when someone listens
+        (:attr:`root_bound_listener`): what tells them Farley's bound (4) of each prize
+        bound the pricing certifies on its way."""
+        if self.root_bound_listener is None or node.depth != 0:
+            return None
+        return lambda prize_bound: self._root_certified(self._farley(y, prize_bound))
+
+    def _root_certified(self, bound: float) -> None:
+        """Tell :attr:`root_bound_listener` the routes a certified bound of the root LP
+        proves, when more than it was told before."""
+        rounded = rounded_up(bound)
+        if self.root_bound_listener is not None and math.isfinite(rounded) and rounded > self.root_bound_told:
+            self.root_bound_told = int(rounded)
+            log.info("branch-and-price: the root's certificates prove at least %d routes", self.root_bound_told)
+            self.root_bound_listener(self.root_bound_told)
 
     def _farley(self, y: np.ndarray, best: float) -> float:
         """Farley's bound (4) for duals ``y = (pi, sigma)`` whose best route prize is ``best``:
@@ -438,14 +465,15 @@ class BranchAndPrice:
         return max(1.0, closing)
 
     def _price_duals(self, y: np.ndarray, budget: float, node: Node, *, exact: bool,
-                     threshold: float = 1.0) -> ngroute.PricingResult:
+                     threshold: float = 1.0,
+                     certified: Callable[[float], None] | None = None) -> ngroute.PricingResult:
         """Pricing for duals ``y = (pi, sigma)``: prizes ``pi``, cut penalties ``sigma``;
         routes whose prize exceeds ``threshold``."""
         penalties = np.zeros(ngroute.MAX_CUTS)
         penalties[:len(self.cuts)] = y[self.m:]
         return self.price(np.concatenate(([0.0], y[:self.m])), budget, node, exact=exact,
                           threshold=threshold, cut_bits=self.cut_bits, cut_memory=self.cut_memory,
-                          penalties=penalties)
+                          penalties=penalties, certified=certified)
 
     def _route_value(self, route: np.ndarray, y: np.ndarray) -> float:
         """A route's prize under duals ``y``: its visits' ``pi`` minus its cuts' ``sigma``
@@ -762,6 +790,7 @@ def prepared(D: np.ndarray) -> tuple[np.ndarray, Merged]:
 def min_robots(
     D: np.ndarray, deadline: float, *, tours: bool, time_limit: float | None = None,
     warm_start: list[list[int]] | None = None, improve: Improve | None = None,
+    proven: Callable[[int], None] | None = None,
 ) -> MilpResult:
     """Fewest routes whose costs all meet ``deadline``, by branch-and-price.
 
@@ -782,6 +811,11 @@ def min_robots(
         (rounded up) and the seconds the root took: routes within the deadline that meet
         the bound, if it finds some (a heuristic that only runs when the bound leaves
         room: the warm start can be cheap).
+    proven : callable, optional
+        Called with the fewest routes the root's certificates prove, each time they prove
+        more, as soon as a pricing certifies it (during a long exact pricing too: each of
+        its complete labellings certifies a bound): a race's other entrant, whose routes
+        may already meet it, need not wait for the root LP to be solved.
 
     Returns
     -------
@@ -803,6 +837,7 @@ def min_robots(
     if start is None:
         start = [[j] for j in range(1, merged.size + 1)]
     trivial = tree_robots_bound(merged.D, deadline, tours=tours, time_limit=time_limit)
+    search.root_bound_listener, search.root_bound_told = proven, trivial  # told: only what beats it
     if len(start) <= trivial:
         return model_result("optimal", merged, D, start, len(start), len(start), 0, began,
                        "warm start meets the spanning-tree / conflict-clique bound")

@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 from milp_helpers import TOL, check_solution, euclidean, graph_metric
 
 from milp import setpart
+from milp.bounds import robots_lower_bound
 from milp.branchprice import colgen, ngroute, tree
 from milp.branchprice.columns import Node
 from milp.branchprice import makespan as makespan_search
@@ -314,6 +315,21 @@ def test_improve_is_asked_once_with_the_root_bound_and_its_routes_are_checked(to
                                       improve=lambda floor, _: [list(range(1, 13))])  # one route, too long
     assert too_long.status == "optimal" and too_long.objective == ref.objective
     check_solution(D, too_long, tours=tours, deadline=deadline)
+
+
+@pytest.mark.parametrize("seed, tours", [(1, False), (1, True), (4, False), (5, False)])
+def test_the_root_tells_each_larger_bound_its_certificates_prove(seed, tours):
+    """Instances (14 KPOIs, within the least makespan) whose root proves more routes than
+    the spanning-tree / clique bound: ``proven`` hears bounds above that one, each larger
+    than the last, none above setpart's optimum (a second exact method)."""
+    D = euclidean(14, seed)
+    deadline = least_makespan(D, tours=tours)
+    told: list[int] = []
+    ours = branchprice.min_robots(D, deadline, tours=tours, proven=told.append)
+    ref = setpart.min_robots(D, deadline, tours=tours)
+    trivial = robots_lower_bound(D, deadline, tours=tours)
+    assert ours.status == "optimal" and ours.objective == ref.objective
+    assert told and told == sorted(set(told)) and trivial < told[0] and told[-1] <= ref.objective
 
 
 def test_coincident_kpois_and_kpois_at_the_start():

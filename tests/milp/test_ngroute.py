@@ -211,6 +211,32 @@ def test_a_stopped_exact_pricing_certifies_its_last_complete_labelling(monkeypat
     assert not result.exact and result.prize_bound == pytest.approx(1.8)
 
 
+def test_an_exact_pricing_tells_each_complete_labellings_certificate(monkeypatch):
+    """The line of the test above: the first labelling (best 1.8, a forbidden cycle)
+    certifies 1.8 and the second (best 1.2, the elementary route 1, 2) 1.2, each told as
+    soon as its labelling ends; a labelling stopped by the clock tells nothing."""
+    x = np.array([0.0, 1.0, 2.0, 4.0, 8.0])
+    D = np.abs(x[:, None] - x[None])
+    prize = np.array([0.0, 0.6, 0.6, 0.0, 0.0])
+    monkeypatch.setattr(ngroute, "MAX_GRID", 0)
+    told = []
+    result = Pricing(D, tours=False, ng_size=2).price(prize, 3.5, allowed=np.ones((5, 5), bool),
+                                                      can_end=np.ones(5, bool), exact=True, certified=told.append)
+    assert result.exact and told == pytest.approx([1.8, 1.2])
+    label, labellings = ngroute._label, []
+
+    def second_stopped(*args):
+        best, ends, parents, nodes, work, complete = label(*args)
+        labellings.append(best)
+        return best, ends, parents, nodes, work, complete and len(labellings) == 1
+
+    monkeypatch.setattr(ngroute, "_label", second_stopped)
+    told.clear()
+    Pricing(D, tours=False, ng_size=2).price(prize, 3.5, allowed=np.ones((5, 5), bool), can_end=np.ones(5, bool),
+                                             exact=True, certified=told.append)
+    assert told == pytest.approx([1.8])
+
+
 def brute_force(D, prize, budget, tours, allowed, can_end):
     """Every elementary route on allowed arcs within ``budget`` ending where allowed:
     ``{route: prize}``."""
