@@ -37,7 +37,10 @@ every elementary route's prize (:func:`milp.branchprice.ngroute.walk_bound`), an
 bound with that maximum is valid (:data:`PRIZE_BOUND_CERTIFICATES`; so is an exact pricing's
 stopped by the clock, with the least best prize of its complete labellings); such a bound closes nodes and
 is reported, but only exact certificates decide that an LP is solved and serve as the
-stability center.
+stability center. At the root of the fewest-robots search every certificate that proves
+more routes than the last is told at once to the caller (:func:`min_robots`' ``proven``),
+each complete labelling of a long exact pricing included, so that a race's other entrant
+whose routes meet it need not wait for the root LP to be solved.
 
 Subset-row cuts
 ---------------
