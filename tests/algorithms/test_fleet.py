@@ -123,10 +123,11 @@ def test_the_entrant_stops_at_the_bound_it_is_handed(tmp_path):
     assert unproven.status == "optimal" or unproven.bound < unproven.objective
 
 
-def _root_then_wait(D, deadline, *, tours, time_limit, warm_start, improve):
-    """A stand-in for branch-and-price whose root proves 2 routes and hands that bound
-    over, then waits for the stop (as the real one reads it at its clock checks)."""
-    improve(2, 0.0)
+def _root_then_wait(D, deadline, *, tours, time_limit, warm_start, improve, proven):
+    """A stand-in for branch-and-price whose root certifies 2 routes while its LP is not
+    solved yet (``proven``, not ``improve``: the bound is told as soon as a pricing
+    certifies it), then waits for the stop (as the real one reads it at its clock checks)."""
+    proven(2)
     clock = TimeLimit(time_limit)
     while not clock.expired() and not stop_requested():
         time.sleep(0.02)
@@ -136,7 +137,7 @@ def _root_then_wait(D, deadline, *, tours, time_limit, warm_start, improve):
 
 def test_exact_takes_pyvrps_routes_when_they_meet_branch_and_prices_bound(monkeypatch):
     """``exact`` for the fewest robots above ROOT_FIRST_MAX KPOIs: branch-and-price (here
-    a stand-in that proves 2 routes at its root) hands its bound to PyVRP, whose routes
+    a stand-in whose root certifies 2 routes) hands its bound to PyVRP, whose routes
     meeting it end the race early: optimal, proven by branch-and-price's bound, routes
     verified. Two tours cover these 35 KPOIs within 2.5 x the least makespan."""
     from milp import branchprice, race
@@ -188,8 +189,8 @@ def test_the_entrant_proves_the_q_route_bound_before_its_search(tmp_path):
     assert warm.message.endswith("meets the warm start's routes")
 
 
-def _root_proves_three(D, deadline, *, tours, time_limit, warm_start, improve):
-    """A stand-in for branch-and-price whose root proves only 3 routes."""
+def _root_proves_three(D, deadline, *, tours, time_limit, warm_start, improve, proven):
+    """A stand-in for branch-and-price whose solved root proves only 3 routes."""
     improve(3, 0.0)
     clock = TimeLimit(time_limit)
     while not clock.expired() and not stop_requested():
