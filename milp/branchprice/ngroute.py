@@ -237,7 +237,7 @@ class Pricing:
         cut_bits: np.ndarray | None = None,
         cut_memory: np.ndarray | None = None,
         penalties: np.ndarray | None = None,
-        certified: Callable[[float], None] | None = None,
+        on_prize_bound: Callable[[float], None] | None = None,
     ) -> PricingResult:
         """Routes within ``budget`` with prize above ``threshold``, and the largest prize.
 
@@ -270,7 +270,7 @@ class Pricing:
         penalties : numpy.ndarray, optional
             ``(MAX_CUTS,)`` non-negative: a route loses ``penalties[t]`` of prize each time
             :func:`cut_coefficients` counts a pair for cut ``t`` (minus the cut's dual).
-        certified : callable, optional
+        on_prize_bound : callable, optional
             Called, during an exact pricing, with the bound on every elementary route's
             prize that each complete labelling certifies (the value
             :attr:`PricingResult.prize_bound` would have if the pricing stopped there), so
@@ -306,8 +306,8 @@ class Pricing:
                 return PricingResult(float(best), routes, False, int(total), prize_bound)
             if complete:  # a relaxation of the elementary routes, labelled to the end
                 prize_bound = min(prize_bound, float(best))
-                if certified is not None:
-                    certified(prize_bound)
+                if on_prize_bound is not None:
+                    on_prize_bound(prize_bound)
             labellings += 1
             if progress.due():
                 log.info("exact pricing: %d labellings so far (ng-memories growing), best route prize %.6g "

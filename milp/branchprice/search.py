@@ -301,14 +301,14 @@ class BranchAndPrice:
               threshold: float = 1.0, cut_bits: np.ndarray | None = None,
               cut_memory: np.ndarray | None = None,
               penalties: np.ndarray | None = None,
-              certified: Callable[[float], None] | None = None) -> ngroute.PricingResult:
-        """One pricing at ``node``, stopped by the search's time limit (``certified``: as
+              on_prize_bound: Callable[[float], None] | None = None) -> ngroute.PricingResult:
+        """One pricing at ``node``, stopped by the search's time limit (``on_prize_bound``: as
         :meth:`milp.branchprice.ngroute.Pricing.price`)."""
         return self.pricing.price(prize, budget, allowed=node.allowed, can_end=node.allowed[:, 0],
                                   exact=exact, threshold=threshold,
                                   ends_at=math.inf if self.ends_at is None else self.ends_at,
                                   cut_bits=cut_bits, cut_memory=cut_memory, penalties=penalties,
-                                  certified=certified)
+                                  on_prize_bound=on_prize_bound)
 
     def _master(self, columns: list[int]) -> highspy.Highs:
         """The LP (1)-(2) over ``columns`` of the pool, with the subset-row cuts (5)."""
@@ -406,7 +406,7 @@ class BranchAndPrice:
             for y, exact in self._duals_to_try(duals, center, None if previous is None else smoothed):
                 res = self._price_duals(y, budget, node, exact=exact,
                                         threshold=self._closing_prize(y, target) if exact else 1.0,
-                                        certified=self._root_listener(node, y))
+                                        on_prize_bound=self._root_listener(node, y))
                 if res.exact:
                     certified = self._farley(y, res.best)
                     if certified > bound:
@@ -469,14 +469,14 @@ class BranchAndPrice:
 
     def _price_duals(self, y: np.ndarray, budget: float, node: Node, *, exact: bool,
                      threshold: float = 1.0,
-                     certified: Callable[[float], None] | None = None) -> ngroute.PricingResult:
+                     on_prize_bound: Callable[[float], None] | None = None) -> ngroute.PricingResult:
         """Pricing for duals ``y = (pi, sigma)``: prizes ``pi``, cut penalties ``sigma``;
         routes whose prize exceeds ``threshold``."""
         penalties = np.zeros(ngroute.MAX_CUTS)
         penalties[:len(self.cuts)] = y[self.m:]
         return self.price(np.concatenate(([0.0], y[:self.m])), budget, node, exact=exact,
                           threshold=threshold, cut_bits=self.cut_bits, cut_memory=self.cut_memory,
-                          penalties=penalties, certified=certified)
+                          penalties=penalties, on_prize_bound=on_prize_bound)
 
     def _route_value(self, route: np.ndarray, y: np.ndarray) -> float:
         """A route's prize under duals ``y``: its visits' ``pi`` minus its cuts' ``sigma``

@@ -221,7 +221,7 @@ def test_an_exact_pricing_tells_each_complete_labellings_certificate(monkeypatch
     monkeypatch.setattr(ngroute, "MAX_GRID", 0)
     told = []
     result = Pricing(D, tours=False, ng_size=2).price(prize, 3.5, allowed=np.ones((5, 5), bool),
-                                                      can_end=np.ones(5, bool), exact=True, certified=told.append)
+                                                      can_end=np.ones(5, bool), exact=True, on_prize_bound=told.append)
     assert result.exact and told == pytest.approx([1.8, 1.2])
     label, labellings = ngroute._label, []
 
@@ -233,7 +233,7 @@ def test_an_exact_pricing_tells_each_complete_labellings_certificate(monkeypatch
     monkeypatch.setattr(ngroute, "_label", second_stopped)
     told.clear()
     Pricing(D, tours=False, ng_size=2).price(prize, 3.5, allowed=np.ones((5, 5), bool), can_end=np.ones(5, bool),
-                                             exact=True, certified=told.append)
+                                             exact=True, on_prize_bound=told.append)
     assert told == pytest.approx([1.8])
 
 
