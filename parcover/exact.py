@@ -45,6 +45,7 @@ share it.
 
 from __future__ import annotations
 
+import json
 import logging
 import os
 import tempfile
@@ -229,7 +230,10 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
     process (:func:`parcover.algorithms.fleet.race_entrant`, :func:`milp.race.race_here`).
     Branch-and-price hands the bound its root proves to PyVRP (a file), as soon as a
     certificate proves it (before the root LP is solved), and PyVRP stops as soon as its
-    routes meet it: optimal then, and branch-and-price is stopped. This replaces
+    routes meet it: optimal then, and branch-and-price is stopped. The other way, PyVRP writes
+    each routes fewer than before to a second file, and branch-and-price, polling it between
+    pricing rounds, takes them as its incumbent (``elsewhere``): its tree then looks for one
+    route fewer than them, whose pricings may stop at the prize that closes the node. This replaces
     :func:`balanced_search`, which takes the same search into this process after the root.
     The entrant proves the q-route LP bound first (and answers at once when the warm start
     meets it). ``info["model"]`` names the bound that proves the answer: ``branchprice``,
@@ -240,7 +244,7 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
     start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
     deadline = problem.effective_deadline(instance)
     with tempfile.TemporaryDirectory(prefix="parcover-") as folder:
-        bound_file = Path(folder) / "bound"
+        bound_file, routes_file = Path(folder) / "bound", Path(folder) / "routes"
         bound_file.write_text("")
 
         handed = {"bound": 0}
@@ -259,9 +263,10 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
             "branchprice", branchprice.min_robots, {"pyvrp": "parcover.algorithms.fleet:race_entrant"},
             (instance.distances, deadline),
             {"tours": problem.tours, "warm_start": start,
-             "improve": hand_over, "proven": proven},
+             "improve": hand_over, "proven": proven, "elsewhere": _routes_written(routes_file)},
             time_limit.remaining(), others_after=BRANCHPRICE_FIRST,
-            others_kwargs={"tours": problem.tours, "bound_file": str(bound_file), "seed": seed, "warm_start": start})
+            others_kwargs={"tours": problem.tours, "bound_file": str(bound_file), "seed": seed, "warm_start": start,
+                           "routes_file": str(routes_file)})
     name, solution = _race_answer(answers, start, "branchprice", lambda a: (a.objective, a.status != "optimal"))
     if name is None:
         return solution
@@ -276,6 +281,26 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
     if name != "branchprice" and solution.routes != start:
         solution.info["message"] = f"routes by PyVRP ({solution.info['message']})"
     return solution
+
+
+def _routes_written(path: Path) -> Callable[[], list[list[int]] | None]:
+    """What reads the routes a race's entrant writes to ``path`` (JSON, replaced whole:
+    :func:`parcover.algorithms.fleet.race_entrant`): each call returns them when they are
+    new since the last call, else None (nothing written yet, or the same routes)."""
+    seen = {"stamp": None}
+
+    def read() -> list[list[int]] | None:
+        try:
+            stat = path.stat()
+        except FileNotFoundError:
+            return None
+        stamp = (stat.st_mtime_ns, stat.st_size, stat.st_ino)
+        if stamp == seen["stamp"]:
+            return None
+        seen["stamp"] = stamp
+        return json.loads(path.read_text())
+
+    return read
 
 
 def _race_answer(answers: dict[str, Any], start: list[list[int]] | None, model: str,

@@ -276,6 +276,11 @@ class BranchAndPrice:
         #: proves more than the last (:meth:`_root_certified`); None: nobody listens.
         self.root_bound_listener: Callable[[int], None] | None = None
         self.root_bound_told = 0
+        #: Polled between pricing rounds and nodes for routes another method found (merged
+        #: indices, within the deadline), or None: when they are fewer than the tree's best,
+        #: the tree takes them and its target drops below them (:meth:`routes_elsewhere`).
+        self.elsewhere: Callable[[], list[list[int]] | None] | None = None
+        self.best_elsewhere: list[list[int]] | None = None
         self.progress = Every(log)  # column generation's progress lines (--log)
 
     @contextmanager
@@ -287,6 +292,15 @@ class BranchAndPrice:
             yield
         finally:
             self.ends_at = own
+
+    def routes_elsewhere(self) -> list[list[int]] | None:
+        """The fewest routes :attr:`elsewhere` has given so far (None: none yet)."""
+        if self.elsewhere is not None:
+            routes = self.elsewhere()
+            if routes is not None and (self.best_elsewhere is None or len(routes) < len(self.best_elsewhere)):
+                log.info("branch-and-price: %d routes from another method", len(routes))
+                self.best_elsewhere = routes
+        return self.best_elsewhere
 
     def out_of_time(self) -> bool:
         # stop_requested: a race's other entrant proved the answer (milp.race.race_here)
@@ -396,6 +410,8 @@ class BranchAndPrice:
                          "(%d columns, %d cuts)", self.nodes, value, max(bound, weak, 0.0), rounds,
                          len(columns), len(self.cuts))
             rounds += 1
+            if (elsewhere := self.routes_elsewhere()) is not None:  # the tree takes them (tree.Decision)
+                target = min(target, len(elsewhere) - 1)
             if ((rounded_up(bound) >= rounded_up(value) and not converge)
                     or bound >= value * (1 - LP_SOLVED)):
                 return outcome(Why.SOLVED, h)
@@ -794,6 +810,7 @@ def min_robots(
     D: np.ndarray, deadline: float, *, tours: bool, time_limit: float | None = None,
     warm_start: list[list[int]] | None = None, improve: Improve | None = None,
     proven: Callable[[int], None] | None = None,
+    elsewhere: Callable[[], list[list[int]] | None] | None = None,
 ) -> MilpResult:
     """Fewest routes whose costs all meet ``deadline``, by branch-and-price.
 
@@ -819,6 +836,12 @@ def min_robots(
         more, as soon as a pricing certifies it (during a long exact pricing too: each of
         its complete labellings certifies a bound): a race's other entrant, whose routes
         may already meet it, need not wait for the root LP to be solved.
+    elsewhere : callable, optional
+        Polled between pricing rounds and nodes for routes (KPOIs ``1..n``) another method
+        found, or None: routes within the deadline and fewer than the tree's best become
+        its incumbent, so the tree looks for one route fewer than them from then on (a
+        race's other entrant finds such routes while the root LP is being solved; with the
+        lower target its pricings may stop sooner, at the prize that closes the node).
 
     Returns
     -------
@@ -845,14 +868,18 @@ def min_robots(
         return model_result("optimal", merged, D, start, len(start), len(start), 0, began,
                        "warm start meets the spanning-tree / conflict-clique bound")
     log.info("branch-and-price: %d routes from the warm start, bound %d", len(start), trivial)
+    if elsewhere is not None:
+        search.elsewhere = lambda: checked_start(merged, D, elsewhere(), tours=tours, deadline=deadline, k=None)
     better = None if improve is None else (
         lambda floor, seconds: checked_start(merged, D, improve(floor, seconds), tours=tours, deadline=deadline,
                                              k=None))
     routes, root, outcome = search.fewest_routes(budget, start, len(start) - 1, first=False, improve=better,
                                                  floor=trivial)
     bound = max(trivial, root or 1)
+    whose = " (routes from another method)" if routes is search.best_elsewhere else ""
     if outcome == Ending.EXHAUSTED or len(routes) <= bound:
         return model_result("optimal", merged, D, routes, len(routes), len(routes), search.nodes, began,
-                       "branch-and-price tree closed" if outcome == Ending.EXHAUSTED else "routes meet the bound")
+                       ("branch-and-price tree closed" if outcome == Ending.EXHAUSTED else "routes meet the bound")
+                       + whose)
     return model_result("feasible", merged, D, routes, len(routes), bound, search.nodes, began,
-                   "time limit" if search.out_of_time() else "a node could not be branched on")
+                   ("time limit" if search.out_of_time() else "a node could not be branched on") + whose)

@@ -139,6 +139,11 @@ class Search(Protocol[Outcome]):
     def integer_master(self, budget: float) -> list[list[int]] | None:
         """A covering by the fewest pooled columns within ``budget``, or None."""
 
+    def routes_elsewhere(self) -> list[list[int]] | None:
+        """The fewest routes another method has found so far, or None. ``solve_node``
+        may close a node against one route fewer than these (the tree takes them when the
+        node returns)."""
+
 
 class Decision:
     """The tree of one fewest-routes search (:meth:`milp.branchprice.search.BranchAndPrice.fewest_routes`): depth first
@@ -186,6 +191,8 @@ class Decision:
         by its bound, answered by enumeration, or integral)."""
         search, budget = self.search, self.budget
         at_root = self.root_bound is None
+        if self._accept(search.routes_elsewhere()):
+            return Ending.FOUND, []
         if not at_root and len(search.pool) >= POOL_GROWTH * self.pool_tried and self._accept(self._pool_covering()):
             return Ending.FOUND, []
         outcome = search.solve_node(node, budget, self.target)
@@ -194,6 +201,8 @@ class Decision:
             self.root_bound = max(1, rounded) if math.isfinite(rounded) else None
             log.info("branch-and-price: the root LP needs at least %s routes (%d allowed; LP bound %.6g, %s)",
                      self.root_bound, self.target, outcome.bound, outcome.why)
+        if self._accept(search.routes_elsewhere()):  # the node may have closed against them
+            return Ending.FOUND, []
         if at_root and any(self._accept(routes) for routes in self._root_candidates(rounded)):
             return Ending.FOUND, []
         settled = None

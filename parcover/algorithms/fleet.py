@@ -29,7 +29,9 @@ the route length PyVRP checks.
 
 from __future__ import annotations
 
+import json
 import math
+import os
 import time
 import warnings
 from collections.abc import Callable
@@ -61,7 +63,8 @@ SQUEEZE_SECONDS, SQUEEZE_SEARCHES = 2.0, 4
 
 def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float, seed: int = 0,
                   floor: int | Callable[[], int] = 1,
-                  start: list[list[int]] | None = None) -> list[list[int]] | None:
+                  start: list[list[int]] | None = None,
+                  found: Callable[[list[list[int]]], None] | None = None) -> list[list[int]] | None:
     """Routes covering KPOIs ``1..n`` of ``D``, each within ``deadline``, as few as PyVRP
     finds in ``seconds``, or ``start`` (routes within the deadline) when it finds none
     fewer; ``None`` when there are neither.
@@ -73,7 +76,8 @@ def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float
     fleet again; then PyVRP's search over the whole fleet, whose fixed costs
     rank fewer routes first, has the time left. Both stop at ``floor`` routes (a proven
     bound, or a function returning the bound proven so far), and when asked to
-    (:func:`milp.core.timelimit.stop_requested`)."""
+    (:func:`milp.core.timelimit.stop_requested`). ``found``, when given, is called with
+    each routes fewer than any before, as soon as they are found."""
     began = time.perf_counter()
     data = _pyvrp_data(D, deadline, tours=tours)
     fixed = data.vehicle_type(0).fixed_cost
@@ -96,13 +100,26 @@ def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float
             searches += 1
         else:
             best, searches = routes, 0
+            if found is not None:
+                found(routes)
     if settled():
         return best
     # Fewer routes than the bound's successor cost less than (bound + 1) fixed costs.
-    found = _solve(data, left(), seed, first=False,
-                   done=lambda cost: settled() or cost < (proven() + 1) * fixed)
-    routes = _routes_within(found, D, deadline, tours=tours)
-    return routes if routes is not None and (best is None or len(routes) < len(best)) else best
+    solution = _solve(data, left(), seed, first=False,
+                      done=lambda cost: settled() or cost < (proven() + 1) * fixed)
+    routes = _routes_within(solution, D, deadline, tours=tours)
+    if routes is None or (best is not None and len(routes) >= len(best)):
+        return best
+    if found is not None:
+        found(routes)
+    return routes
+
+
+def _write_routes(path: str, routes: list[list[int]]) -> None:
+    """``routes`` as JSON in ``path``, replacing it whole (written beside it first)."""
+    written = Path(f"{path}.part")
+    written.write_text(json.dumps(routes))
+    os.replace(written, path)
 
 
 def _solve(data: Any, seconds: float, seed: int, *, first: bool, done: Callable[[int], bool]) -> Any:
@@ -164,7 +181,8 @@ def _routes_within(found: Any, D: np.ndarray, deadline: float, *, tours: bool) -
 
 
 def race_entrant(D: np.ndarray, deadline: float, *, tours: bool, bound_file: str, seed: int = 0,
-                 time_limit: float | None = None, warm_start: list[list[int]] | None = None) -> MilpResult:
+                 time_limit: float | None = None, warm_start: list[list[int]] | None = None,
+                 routes_file: str | None = None) -> MilpResult:
     """:func:`fewest_routes` as an entrant of :func:`milp.race.race_here`, beside
     branch-and-price: it stops as soon as its routes meet the bound branch-and-price has
     proved, which that one writes to ``bound_file`` (an integer; empty until the root is
@@ -173,7 +191,11 @@ def race_entrant(D: np.ndarray, deadline: float, *, tours: bool, bound_file: str
     :data:`QROUTE_SECONDS`; never below :func:`milp.bounds.robots_lower_bound`'s). Its
     answer is ``"optimal"`` then (the bound is proven; the routes are checked here), else
     ``"feasible"``; when ``warm_start`` (branch-and-price's first routes) already meets the
-    q-route bound, those routes, ``"optimal"``, without a search."""
+    q-route bound, those routes, ``"optimal"``, without a search. With ``routes_file``,
+    each routes fewer than any before are written there (JSON, KPOIs ``1..n``; replaced
+    whole, so a reader never sees half of them) as soon as they are found: branch-and-price
+    takes them as its incumbent, and its tree then looks for one route fewer
+    (:func:`milp.branchprice.min_robots`' ``elsewhere``)."""
     began = time.perf_counter()
     qroute = colgen.robots_bound(D, deadline, tours=tours,
                                  time_limit=QROUTE_SECONDS if time_limit is None else min(QROUTE_SECONDS, time_limit))
@@ -194,7 +216,8 @@ def race_entrant(D: np.ndarray, deadline: float, *, tours: bool, bound_file: str
 
     left = None if time_limit is None else time_limit - (time.perf_counter() - began)
     routes = fewest_routes(D, deadline, tours=tours, seconds=1e9 if left is None else left,
-                           seed=seed, floor=proven, start=warm_start)
+                           seed=seed, floor=proven, start=warm_start,
+                           found=None if routes_file is None else lambda found: _write_routes(routes_file, found))
     seconds = time.perf_counter() - began
     if routes is None:
         return MilpResult("unknown", seconds=seconds, message="PyVRP found no routes within the deadline")

@@ -103,6 +103,23 @@ def test_a_route_exactly_as_long_as_the_deadline_is_kept():
     assert routes == [[1, 2, 3]]
 
 
+@pytest.mark.parametrize("tours", [False, True])
+def test_each_routes_found_are_told_fewer_than_the_last(tours):
+    """``found`` hears every routes fewer than before as they are found, from a route per
+    KPOI down to the routes returned (setpart's proven optimum here), each covering every
+    KPOI within the deadline."""
+    D = generate.random_points(10, 4).distances
+    deadline = 1.2 * least_makespan(D, tours=tours)
+    heard: list[list[list[int]]] = []
+    routes = fewest_routes(D, deadline, tours=tours, seconds=3.0, start=[[k] for k in range(1, 11)],
+                           found=heard.append)
+    counts = [len(r) for r in heard]
+    assert heard and heard[-1] == routes and counts == sorted(set(counts), reverse=True) and counts[0] < 10
+    assert len(routes) == setpart.min_robots(D, deadline, tours=tours).objective
+    for told in heard:
+        assert _covers(told, 10) and all(within(route_cost(D, r, tours=tours), deadline) for r in told)
+
+
 def test_the_entrant_stops_at_the_bound_it_is_handed(tmp_path):
     """With branch-and-price's bound in the file, the entrant answers optimal as soon as
     its routes meet it, long before its time limit; without one (empty file) it uses the
@@ -123,7 +140,7 @@ def test_the_entrant_stops_at_the_bound_it_is_handed(tmp_path):
     assert unproven.status == "optimal" or unproven.bound < unproven.objective
 
 
-def _root_then_wait(D, deadline, *, tours, time_limit, warm_start, improve, proven):
+def _root_then_wait(D, deadline, *, tours, time_limit, warm_start, improve, proven, elsewhere):
     """A stand-in for branch-and-price whose root certifies 2 routes while its LP is not
     solved yet (``proven``, not ``improve``: the bound is told as soon as a pricing
     certifies it), then waits for the stop (as the real one reads it at its clock checks)."""
@@ -158,6 +175,49 @@ def test_exact_takes_pyvrps_routes_when_they_meet_branch_and_prices_bound(monkey
     assert all(within(route_cost(D, route, tours=True), problem.deadline) for route in solution.routes)
 
 
+#: What the stand-in below was handed by ``elsewhere``, as it polled.
+HANDED: list[list[list[int]]] = []
+
+
+def _polls_for_routes_elsewhere(D, deadline, *, tours, time_limit, warm_start, improve, proven, elsewhere):
+    """A stand-in for branch-and-price that proves nothing and polls ``elsewhere`` (as the
+    real one does between pricing rounds) until the stop or its limit, keeping each routes
+    handed to it."""
+    clock = TimeLimit(time_limit)
+    while not clock.expired() and not stop_requested():
+        routes = elsewhere()
+        if routes is not None:
+            HANDED.append(routes)
+        time.sleep(0.02)
+    best = min(HANDED, key=len, default=warm_start)
+    return MilpResult("feasible", best, float(len(best)), 1.0, None, 0, 0.0, "time limit")
+
+
+def test_pyvrps_routes_reach_branch_and_price_while_it_runs(monkeypatch):
+    """``exact``'s race hands each routes PyVRP finds, fewer than before, to branch-and-price
+    as they are found (a file it polls): from a route per KPOI, the stand-in is handed
+    routes covering every KPOI within the deadline, each fewer than the last, the fewest
+    of them those the race answers with, long before the limit."""
+    from milp import branchprice, race
+
+    if race.cores() < 2:
+        pytest.skip("the race needs two cores")
+    HANDED.clear()
+    monkeypatch.setattr(branchprice, "min_robots", _polls_for_routes_elsewhere)
+    instance = generate.random_points(35, 5)
+    problem = Problem("tours", deadline=1.2 * least_makespan(instance.distances, tours=True))
+    start = [[k] for k in range(1, 36)]
+    solution = exact_module.exact(instance, problem, time_limit=8.0, warm_start=start)
+    assert HANDED, "no routes reached branch-and-price"
+    counts = [len(routes) for routes in HANDED]
+    assert counts == sorted(set(counts), reverse=True) and counts[0] < 35
+    D = instance.distances
+    for routes in HANDED:
+        assert _covers(routes, 35)
+        assert all(within(route_cost(D, route, tours=True), problem.deadline) for route in routes)
+    assert len(solution.routes) <= counts[-1]
+
+
 def _uniform_35_tours() -> tuple[np.ndarray, float]:
     """35 uniform KPOIs, tours within 1.2 x the least makespan: the spanning-tree / clique
     bound is 3, the q-route LP bound 4 (3.07 rounded up), and 4 is the optimum
@@ -189,7 +249,7 @@ def test_the_entrant_proves_the_q_route_bound_before_its_search(tmp_path):
     assert warm.message.endswith("meets the warm start's routes")
 
 
-def _root_proves_three(D, deadline, *, tours, time_limit, warm_start, improve, proven):
+def _root_proves_three(D, deadline, *, tours, time_limit, warm_start, improve, proven, elsewhere):
     """A stand-in for branch-and-price whose solved root proves only 3 routes."""
     improve(3, 0.0)
     clock = TimeLimit(time_limit)

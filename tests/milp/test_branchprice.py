@@ -27,7 +27,7 @@ from milp.branchprice import makespan as makespan_search
 from milp.branchprice import search as branchprice
 from milp.branchprice.ngroute import MAX_CUTS, Pricing
 from milp.core import progress
-from milp.core.routes import least_makespan
+from milp.core.routes import least_makespan, route_cost
 
 
 def open_arcs(m: int) -> tuple[np.ndarray, np.ndarray]:
@@ -330,6 +330,35 @@ def test_the_root_tells_each_larger_bound_its_certificates_prove(seed, tours):
     trivial = robots_lower_bound(D, deadline, tours=tours)
     assert ours.status == "optimal" and ours.objective == ref.objective
     assert told and told == sorted(set(told)) and trivial < told[0] and told[-1] <= ref.objective
+
+
+@pytest.mark.parametrize("tours", [False, True])
+@pytest.mark.parametrize("seed", [1, 4])
+def test_routes_from_elsewhere_become_the_incumbent_while_the_root_is_solved(seed, tours):
+    """From a route per KPOI, ``elsewhere`` hands over setpart's optimum (a second exact
+    method) at its fourth poll, while the root LP is being solved: the tree takes it, looks
+    for one route fewer, and proves it optimal; the message says whose routes they are.
+    Routes that do not cover every KPOI, or break the deadline, are not taken."""
+    D = euclidean(14, seed)
+    deadline = least_makespan(D, tours=tours)
+    ref = setpart.min_robots(D, deadline, tours=tours)
+    polls = {"count": 0}
+
+    def elsewhere():
+        polls["count"] += 1
+        return ref.routes if polls["count"] == 4 else None
+
+    ours = branchprice.min_robots(D, deadline, tours=tours, warm_start=[[j] for j in range(1, 15)],
+                                  elsewhere=elsewhere)
+    assert polls["count"] > 4 and ours.status == "optimal" and ours.objective == ref.objective
+    check_solution(D, ours, tours=tours, deadline=deadline)
+    assert "routes from another method" in ours.message
+    whole = [list(range(1, 15))]  # one route through every KPOI: far over the least makespan
+    assert route_cost(D, whole[0], tours=tours) > deadline
+    wrong = itertools.cycle([whole, ref.routes[1:]])  # over the deadline, or not covering
+    ignored = branchprice.min_robots(D, deadline, tours=tours, elsewhere=lambda: next(wrong))
+    assert ignored.status == "optimal" and ignored.objective == ref.objective
+    assert "another method" not in ignored.message
 
 
 def test_coincident_kpois_and_kpois_at_the_start():
