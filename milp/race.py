@@ -26,6 +26,7 @@ clock (branch-and-price between pricing rounds and nodes), so it ends within a r
 from __future__ import annotations
 
 import importlib
+import json
 import logging
 import os
 import pickle
@@ -36,6 +37,7 @@ import tempfile
 import threading
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import IO, Any
 
 from milp.core import progress
@@ -43,7 +45,7 @@ from milp.core.orphans import exit_with_parent
 from milp.core.result import MilpResult
 from milp.core.timelimit import interrupt, interrupted, stopping
 
-__all__ = ["race", "race_here", "Entrant", "cores", "share_cores", "START_SECONDS"]
+__all__ = ["race", "race_here", "Entrant", "cores", "share_cores", "write_routes", "routes_reader", "START_SECONDS"]
 
 #: Seconds kept back from an entrant's time limit for starting its interpreter (imports:
 #: 0.5-0.8 s measured) and sending its answer back.
@@ -153,6 +155,35 @@ class Entrant:
         _close(self.process.stdin)
         _close(self.process.stdout)
         self._errors.close()
+
+
+def write_routes(path: str | Path, routes: list[list[int]]) -> None:
+    """Hand ``routes`` to the entrant that reads ``path`` (:func:`routes_reader`): JSON,
+    written beside it first and then put in its place, so a reader never sees half."""
+    written = Path(f"{path}.part")
+    written.write_text(json.dumps(routes))
+    os.replace(written, path)
+
+
+def routes_reader(path: str | Path) -> Callable[[], list[list[int]] | None]:
+    """What reads the routes another entrant writes to ``path`` (:func:`write_routes`):
+    each call returns them when they were written since the last call, else None (nothing
+    written yet, or nothing new). Cheap enough to call between two pricing rounds: a
+    ``stat`` when nothing is new."""
+    path, seen = Path(path), {"stamp": None}
+
+    def read() -> list[list[int]] | None:
+        try:
+            stat = path.stat()
+        except FileNotFoundError:
+            return None
+        stamp = (stat.st_mtime_ns, stat.st_size, stat.st_ino)
+        if stamp == seen["stamp"]:
+            return None
+        seen["stamp"] = stamp
+        return json.loads(path.read_text())
+
+    return read
 
 
 def _close(stream: IO[bytes]) -> None:

@@ -45,7 +45,6 @@ share it.
 
 from __future__ import annotations
 
-import json
 import logging
 import os
 import tempfile
@@ -191,7 +190,8 @@ def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, 
     (:func:`milp.race.race_here`): ``branchcut`` for at most :data:`RACE_ROUTES` robots
     and :data:`RACE_MAX_KPOIS` KPOIs, else ``best``'s local search from the same warm
     start (:func:`parcover.algorithms.local_search.race_entrant`), which branch-and-price's
-    tree seldom improves on; the first proof stops the other. ``info["model"]`` names the
+    tree seldom improves on (it hands each better routes to branch-and-price as it finds
+    them, whose decisions then go on below them); the first proof stops the other. ``info["model"]`` names the
     method whose routes are returned (the one that proved them, when proven); the bound is
     the larger of every method's certified bound (:func:`parcover.solve` calls routes that
     meet it optimal)."""
@@ -199,16 +199,20 @@ def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, 
 
     start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
     kwargs = {"tours": problem.tours, "warm_start": start}
-    if problem.robots <= RACE_ROUTES and instance.n <= RACE_MAX_KPOIS:
-        rival, entrant, rival_kwargs = RACE_MODELS[1], f"milp.{RACE_MODELS[1]}:min_makespan", kwargs
-    else:
-        rival, entrant = "best", "parcover.algorithms.local_search:race_entrant"
-        rival_kwargs = {**kwargs, "seed": seed + 1}
-    log.info("exact: branch-and-price, and %s in another process after %g s unless proven by then",
-             rival, BRANCHPRICE_FIRST)
-    answers = race.race_here(RACE_MODELS[0], branchprice.min_makespan, {rival: entrant},
-                             (instance.distances, problem.robots), kwargs,
-                             time_limit.remaining(), others_after=BRANCHPRICE_FIRST, others_kwargs=rival_kwargs)
+    with tempfile.TemporaryDirectory(prefix="parcover-") as folder:
+        routes_file = Path(folder) / "routes"
+        here = {**kwargs}
+        if problem.robots <= RACE_ROUTES and instance.n <= RACE_MAX_KPOIS:
+            rival, entrant, rival_kwargs = RACE_MODELS[1], f"milp.{RACE_MODELS[1]}:min_makespan", kwargs
+        else:  # the local search hands each better routes to branch-and-price's decisions
+            rival, entrant = "best", "parcover.algorithms.local_search:race_entrant"
+            rival_kwargs = {**kwargs, "seed": seed + 1, "routes_file": str(routes_file)}
+            here["elsewhere"] = race.routes_reader(routes_file)
+        log.info("exact: branch-and-price, and %s in another process after %g s unless proven by then",
+                 rival, BRANCHPRICE_FIRST)
+        answers = race.race_here(RACE_MODELS[0], branchprice.min_makespan, {rival: entrant},
+                                 (instance.distances, problem.robots), here,
+                                 time_limit.remaining(), others_after=BRANCHPRICE_FIRST, others_kwargs=rival_kwargs)
     name, solution = _race_answer(answers, start, RACE_MODELS[0],
                                   lambda a: (a.status not in ("optimal", "infeasible"), a.objective))
     if name is None:
@@ -263,7 +267,7 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
             "branchprice", branchprice.min_robots, {"pyvrp": "parcover.algorithms.fleet:race_entrant"},
             (instance.distances, deadline),
             {"tours": problem.tours, "warm_start": start,
-             "improve": hand_over, "proven": proven, "elsewhere": _routes_written(routes_file)},
+             "improve": hand_over, "proven": proven, "elsewhere": race.routes_reader(routes_file)},
             time_limit.remaining(), others_after=BRANCHPRICE_FIRST,
             others_kwargs={"tours": problem.tours, "bound_file": str(bound_file), "seed": seed, "warm_start": start,
                            "routes_file": str(routes_file)})
@@ -281,26 +285,6 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
     if name != "branchprice" and solution.routes != start:
         solution.info["message"] = f"routes by PyVRP ({solution.info['message']})"
     return solution
-
-
-def _routes_written(path: Path) -> Callable[[], list[list[int]] | None]:
-    """What reads the routes a race's entrant writes to ``path`` (JSON, replaced whole:
-    :func:`parcover.algorithms.fleet.race_entrant`): each call returns them when they are
-    new since the last call, else None (nothing written yet, or the same routes)."""
-    seen = {"stamp": None}
-
-    def read() -> list[list[int]] | None:
-        try:
-            stat = path.stat()
-        except FileNotFoundError:
-            return None
-        stamp = (stat.st_mtime_ns, stat.st_size, stat.st_ino)
-        if stamp == seen["stamp"]:
-            return None
-        seen["stamp"] = stamp
-        return json.loads(path.read_text())
-
-    return read
 
 
 def _race_answer(answers: dict[str, Any], start: list[list[int]] | None, model: str,

@@ -164,20 +164,24 @@ def test_exact_races_best_where_branch_and_cut_does_not_reach(monkeypatch):
     """5 tours on 25 KPOIs (more robots than branch-and-cut races for): the rival is
     ``best``'s local search in another process. With a branch-and-price here that proves
     nothing, the answer is the rival's: verified routes no worse than the warm start, the
-    trivial bound, the message saying whose routes they are."""
+    trivial bound, the message saying whose routes they are; it hands each better routes to
+    branch-and-price as it finds them."""
     from milp import branchprice, race
 
     if race.cores() < 2:
         pytest.skip("the race needs two cores")
-    asked = []
+    asked, handed = [], []
 
-    def nothing_proven(D, k, *, tours, time_limit, warm_start=None):
+    def nothing_proven(D, k, *, tours, time_limit, warm_start=None, elsewhere=None):
         from milp.core.result import MilpResult
         from milp.core.timelimit import TimeLimit
 
         asked.append(warm_start)
         clock = TimeLimit(time_limit)
         while not clock.expired():
+            routes = elsewhere()  # as branch-and-price polls between pricing rounds
+            if routes is not None:
+                handed.append(routes)
             time.sleep(0.02)
         return MilpResult("unknown", [], None, None, None, 0, 0.0, "time limit")
 
@@ -188,6 +192,11 @@ def test_exact_races_best_where_branch_and_cut_does_not_reach(monkeypatch):
     assert result.model in ("branchprice", "bounds")
     assert result.value <= makespan(instance.distances, asked[0], tours=True) * (1 + 1e-9)
     assert 2 * instance.c_max <= result.bound <= result.value
+    # the rival handed its better routes over as it found them, the last the answer's
+    assert handed, "no routes reached branch-and-price"
+    values = [makespan(instance.distances, routes, tours=True) for routes in handed]
+    assert all(len(r) <= 5 and sorted(j for route in r for j in route) == list(range(1, 26)) for r in handed)
+    assert values == sorted(values, reverse=True) and result.value == pytest.approx(values[-1])
 
 
 def test_branchcut_answers_the_least_makespan_only():

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import logging
 import time
+from collections.abc import Callable
 
 import numpy as np
 
@@ -50,11 +51,15 @@ NG_BISECTION_FIRST = 0.25
 def min_makespan(
     D: np.ndarray, k: int, *, tours: bool, time_limit: float | None = None,
     warm_start: list[list[int]] | None = None,
+    elsewhere: Callable[[], list[list[int]] | None] | None = None,
 ) -> MilpResult:
     """Least makespan with at most ``k`` routes: a sequence of fewest-routes decisions.
 
     Parameters are those of :func:`min_robots` with ``k`` (routes available) in place of
-    the deadline; ``warm_start`` should hold at most ``k`` routes.
+    the deadline; ``warm_start`` should hold at most ``k`` routes. ``elsewhere``, polled
+    between pricing rounds and nodes while the decisions run, returns routes another
+    method found (KPOIs ``1..n``), or None: at most ``k`` routes with a smaller makespan
+    than the best so far end the decision under way, and the next decides below them.
 
     Returns
     -------
@@ -91,19 +96,29 @@ def min_makespan(
     # bisection leaves goes back to the decisions
     resume = cut_short and ends_at is not None
     decisions = _MakespanDecisions(search, k, routes, value)
-    with search.until(ends_at - BISECTION_SHARE * time_limit if resume else ends_at):
+
+    def better() -> list[list[int]] | None:  # routes from elsewhere that answer the decision under way
+        found = None if elsewhere is None else checked_start(merged, D, elsewhere(), tours=tours, deadline=None, k=k)
+        if found is None or makespan(merged.D, found, tours=tours) >= decisions.value * (1 - STRICT):
+            return None
+        return found
+
+    with search.until(ends_at - BISECTION_SHARE * time_limit if resume else ends_at), search.handing(better):
         proof = decisions.run(lower)
     if proof is None and resume and decisions.timed_out and not search.out_of_time():
+        # the bisection polls nothing: a node it solves must not close against handed routes
         lower = search.makespan_bound = max(lower, _makespan_lp_bound(search, k, lower, decisions.value, ends_at)[0])
         log.info("branch-and-price: root LP bound resumed: %.6g (gap %s)", lower, _gap(decisions.value, lower))
-        proof = decisions.run(lower)
+        with search.handing(better):
+            proof = decisions.run(lower)
     routes, value = decisions.routes, decisions.value
     if proof is not None:
         found, bound, message = proof
         return model_result("optimal", merged, D, found, makespan(merged.D, found, tours=tours), bound,
-                            search.nodes, began, message)
+                            search.nodes, began, message + search.whose(found))
     return model_result("feasible", merged, D, routes, value, lower, search.nodes, began,
-                        "time limit" if search.out_of_time() else "a node could not be branched on")
+                        ("time limit" if search.out_of_time() else "a node could not be branched on")
+                        + search.whose(routes))
 
 
 class _MakespanDecisions:

@@ -276,11 +276,13 @@ class BranchAndPrice:
         #: proves more than the last (:meth:`_root_certified`); None: nobody listens.
         self.root_bound_listener: Callable[[int], None] | None = None
         self.root_bound_told = 0
-        #: Polled between pricing rounds and nodes for routes another method found (merged
-        #: indices, within the deadline), or None: when they are fewer than the tree's best,
-        #: the tree takes them and its target drops below them (:meth:`routes_elsewhere`).
+        #: Polled between pricing rounds and nodes for routes another method found that
+        #: answer the tree's question (merged indices: fewer routes than the tree's best,
+        #: within the deadline; for a makespan decision, at most ``k`` routes within its
+        #: budget), or None; None: nobody hands any (:meth:`routes_elsewhere`).
         self.elsewhere: Callable[[], list[list[int]] | None] | None = None
-        self.best_elsewhere: list[list[int]] | None = None
+        self.handed: list[list[int]] | None = None  # polled, not yet taken by the tree
+        self.taken: list[list[int]] | None = None  # the last routes the tree took
         self.progress = Every(log)  # column generation's progress lines (--log)
 
     @contextmanager
@@ -293,14 +295,34 @@ class BranchAndPrice:
         finally:
             self.ends_at = own
 
+    def _poll_elsewhere(self) -> list[list[int]] | None:
+        """The latest routes :attr:`elsewhere` handed over that the tree has not taken."""
+        if self.elsewhere is not None and (routes := self.elsewhere()) is not None:
+            log.info("branch-and-price: %d routes from another method", len(routes))
+            self.handed = routes
+        return self.handed
+
     def routes_elsewhere(self) -> list[list[int]] | None:
-        """The fewest routes :attr:`elsewhere` has given so far (None: none yet)."""
-        if self.elsewhere is not None:
-            routes = self.elsewhere()
-            if routes is not None and (self.best_elsewhere is None or len(routes) < len(self.best_elsewhere)):
-                log.info("branch-and-price: %d routes from another method", len(routes))
-                self.best_elsewhere = routes
-        return self.best_elsewhere
+        """Routes another method found (:attr:`elsewhere`) not taken yet, taken now: the
+        tree makes them its incumbent (None: none new)."""
+        routes, self.handed = self._poll_elsewhere(), None
+        if routes is not None:
+            self.taken = routes
+        return routes
+
+    def whose(self, routes: list[list[int]] | None) -> str:
+        """What an answer's message adds when ``routes`` are the last the tree took from
+        another method."""
+        return " (routes from another method)" if routes is not None and routes is self.taken else ""
+
+    @contextmanager
+    def handing(self, elsewhere: Callable[[], list[list[int]] | None]) -> Iterator[None]:
+        """Within the ``with`` block the search polls ``elsewhere`` (:attr:`elsewhere`)."""
+        self.elsewhere, self.handed = elsewhere, None
+        try:
+            yield
+        finally:
+            self.elsewhere, self.handed = None, None
 
     def out_of_time(self) -> bool:
         # stop_requested: a race's other entrant proved the answer (milp.race.race_here)
@@ -410,8 +432,8 @@ class BranchAndPrice:
                          "(%d columns, %d cuts)", self.nodes, value, max(bound, weak, 0.0), rounds,
                          len(columns), len(self.cuts))
             rounds += 1
-            if (elsewhere := self.routes_elsewhere()) is not None:  # the tree takes them (tree.Decision)
-                target = min(target, len(elsewhere) - 1)
+            if (handed := self._poll_elsewhere()) is not None:  # the tree takes them (tree.Decision)
+                target = min(target, len(handed) - 1)
             if ((rounded_up(bound) >= rounded_up(value) and not converge)
                     or bound >= value * (1 - LP_SOLVED)):
                 return outcome(Why.SOLVED, h)
@@ -868,15 +890,16 @@ def min_robots(
         return model_result("optimal", merged, D, start, len(start), len(start), 0, began,
                        "warm start meets the spanning-tree / conflict-clique bound")
     log.info("branch-and-price: %d routes from the warm start, bound %d", len(start), trivial)
-    if elsewhere is not None:
-        search.elsewhere = lambda: checked_start(merged, D, elsewhere(), tours=tours, deadline=deadline, k=None)
+    handed = (lambda: None) if elsewhere is None else (
+        lambda: checked_start(merged, D, elsewhere(), tours=tours, deadline=deadline, k=None))
     better = None if improve is None else (
         lambda floor, seconds: checked_start(merged, D, improve(floor, seconds), tours=tours, deadline=deadline,
                                              k=None))
-    routes, root, outcome = search.fewest_routes(budget, start, len(start) - 1, first=False, improve=better,
-                                                 floor=trivial)
+    with search.handing(handed):
+        routes, root, outcome = search.fewest_routes(budget, start, len(start) - 1, first=False, improve=better,
+                                                     floor=trivial)
     bound = max(trivial, root or 1)
-    whose = " (routes from another method)" if routes is search.best_elsewhere else ""
+    whose = search.whose(routes)
     if outcome == Ending.EXHAUSTED or len(routes) <= bound:
         return model_result("optimal", merged, D, routes, len(routes), len(routes), search.nodes, began,
                        ("branch-and-price tree closed" if outcome == Ending.EXHAUSTED else "routes meet the bound")

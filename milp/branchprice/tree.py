@@ -140,9 +140,10 @@ class Search(Protocol[Outcome]):
         """A covering by the fewest pooled columns within ``budget``, or None."""
 
     def routes_elsewhere(self) -> list[list[int]] | None:
-        """The fewest routes another method has found so far, or None. ``solve_node``
-        may close a node against one route fewer than these (the tree takes them when the
-        node returns)."""
+        """Routes another method found that answer this tree's question (fewer routes
+        than its best, within the budget), taken now, or None. ``solve_node`` may close a
+        node against one route fewer than routes it has seen and not handed over yet:
+        the tree takes them as soon as the node returns."""
 
 
 class Decision:
@@ -166,6 +167,13 @@ class Decision:
         """Search the tree; how it ended. With logging on, a line every
         :data:`milp.core.progress.PROGRESS_SECONDS`: nodes solved and closed, nodes open, the
         deepest open one."""
+        ending = self._search()
+        if ending in (Ending.EXHAUSTED, Ending.UNKNOWN) and self._accept(self.search.routes_elsewhere()):
+            return Ending.FOUND  # the last nodes may have closed against them
+        return ending
+
+    def _search(self) -> Ending:
+        """The depth-first search of :meth:`run`, until an ending."""
         stack = [Node.root(self.search.m)]
         while stack:
             if self.search.out_of_time():

@@ -29,9 +29,7 @@ the route length PyVRP checks.
 
 from __future__ import annotations
 
-import json
 import math
-import os
 import time
 import warnings
 from collections.abc import Callable
@@ -44,6 +42,7 @@ from milp.branchprice import colgen
 from milp.core.result import MilpResult
 from milp.core.routes import ABS_TOL, REL_TOL, route_cost, within
 from milp.core.timelimit import stop_requested
+from milp.race import write_routes
 
 __all__ = ["fewest_routes", "race_entrant"]
 
@@ -113,13 +112,6 @@ def fewest_routes(D: np.ndarray, deadline: float, *, tours: bool, seconds: float
     if found is not None:
         found(routes)
     return routes
-
-
-def _write_routes(path: str, routes: list[list[int]]) -> None:
-    """``routes`` as JSON in ``path``, replacing it whole (written beside it first)."""
-    written = Path(f"{path}.part")
-    written.write_text(json.dumps(routes))
-    os.replace(written, path)
 
 
 def _solve(data: Any, seconds: float, seed: int, *, first: bool, done: Callable[[int], bool]) -> Any:
@@ -217,7 +209,7 @@ def race_entrant(D: np.ndarray, deadline: float, *, tours: bool, bound_file: str
     left = None if time_limit is None else time_limit - (time.perf_counter() - began)
     routes = fewest_routes(D, deadline, tours=tours, seconds=1e9 if left is None else left,
                            seed=seed, floor=proven, start=warm_start,
-                           found=None if routes_file is None else lambda found: _write_routes(routes_file, found))
+                           found=None if routes_file is None else lambda found: write_routes(routes_file, found))
     seconds = time.perf_counter() - began
     if routes is None:
         return MilpResult("unknown", seconds=seconds, message="PyVRP found no routes within the deadline")

@@ -57,6 +57,7 @@ import logging
 import math
 import random
 import time
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -64,6 +65,7 @@ import numpy as np
 from milp.core.result import MilpResult
 from milp.core.routes import makespan, within
 from milp.core.timelimit import TimeLimit, TimeLimitLike, stop_requested
+from milp.race import write_routes
 from parcover.algorithms.moves import Key, Search
 from parcover.algorithms.starts import best_construction, min_max_insertion
 from parcover.bounds import lower_bound, robots_lower_bound
@@ -225,20 +227,23 @@ def fewer_robots(
 
 
 def race_entrant(D: np.ndarray, k: int, *, tours: bool, warm_start: list[list[int]] | None = None,
-                 seed: int = 0, time_limit: float | None = None) -> MilpResult:
+                 seed: int = 0, time_limit: float | None = None, routes_file: str | None = None) -> MilpResult:
     """:func:`improve` as an entrant of :func:`milp.race.race_here` beside branch-and-price's
     least makespan with ``k`` routes on the distance matrix ``D`` (index 0 the start): from
     ``warm_start`` (branch-and-price's start; else :func:`best_construction`) with its own
     ``seed``, until the time limit or the trivial lower bound. ``"optimal"`` when its routes
     meet that bound, else ``"feasible"`` with it; the race keeps the better routes and the
-    larger bound."""
+    larger bound. With ``routes_file``, each better routes are written there as they are
+    found (:func:`milp.race.write_routes`): branch-and-price's makespan decisions take them
+    (:func:`milp.branchprice.min_makespan`'s ``elsewhere``)."""
     began = time.perf_counter()
     stop = None if time_limit is None else began + time_limit
     instance, problem = Instance.from_matrix(D), Problem("tours" if tours else "paths", robots=k)
     bound = lower_bound(instance, problem, seconds=None if time_limit is None else _BOUND_SHARE * time_limit)
     start = warm_start or best_construction(instance, problem, time_limit=time_limit, seed=seed)[1]
     routes, _ = improve(instance, problem, start, seed=seed, iterations=None if stop else DEFAULT_ITERATIONS,
-                        stop=stop, target=bound)
+                        stop=stop, target=bound,
+                        found=None if routes_file is None else lambda found: write_routes(routes_file, found))
     value = makespan(D, routes, tours=tours)
     proven = within(value, bound)
     return MilpResult("optimal" if proven else "feasible", routes=routes, objective=value, bound=bound,
@@ -256,6 +261,7 @@ def improve(
     stop: float | None = None,
     target: float | None = None,
     patience: int | None = None,
+    found: Callable[[list[list[int]]], None] | None = None,
 ) -> tuple[list[list[int]], dict[str, Any]]:
     """Iterated local search from valid ``routes`` (KPOI indices).
 
@@ -283,6 +289,9 @@ def improve(
     patience
         The temperature falls over this many rounds; once it has, stop after this many
         rounds in a row without a better solution (``None``: never).
+    found
+        Called with the routes of each solution better than the last (the polished start
+        first, when better than ``routes``), as soon as it is found.
 
     Returns
     -------
@@ -301,6 +310,8 @@ def improve(
     incumbent, incumbent_key = _copy(current), current_key
     if start_key < incumbent_key:
         incumbent, incumbent_key = _copy(start), start_key
+    elif found is not None and incumbent_key < start_key:
+        found(_routes(incumbent))
     began = time.perf_counter()
     scale = max(current_key[-2], search.tol)
     horizon = iterations if iterations is not None else patience
@@ -327,10 +338,17 @@ def improve(
         if candidate_key < incumbent_key:
             incumbent, incumbent_key, last_better = _copy(candidate), candidate_key, done
             log.info("best: round %d, %s", done, _describe(incumbent_key))
+            if found is not None:
+                found(_routes(incumbent))
         if _accepts(candidate_key, current_key, temperature, rng):
             current, current_key = candidate, candidate_key
-    final = [s[1:-1] for s in incumbent if len(s) > 2]
-    return final, {"start_value": start_key, "value": incumbent_key, "iterations": done}
+    return _routes(incumbent), {"start_value": start_key, "value": incumbent_key, "iterations": done}
+
+
+def _routes(seqs: list[list[int]]) -> list[list[int]]:
+    """The KPOI routes of a search's sequences (each from the start to its end, both
+    dropped; empty ones left out)."""
+    return [s[1:-1] for s in seqs if len(s) > 2]
 
 
 def patience(n: int) -> int:

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from parcover import generate, solve
+from parcover import Instance, generate, solve
 from parcover.algorithms.local_search import best, improve, min_max_insertion, race_entrant
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.solve import METHODS, available_methods
@@ -163,6 +163,31 @@ def test_race_entrant_answers_with_valid_routes_and_the_trivial_bound(tours):
     assert answer.objective <= makespan(D, start, tours=tours) + 1e-9
     assert answer.bound == bounds.makespan_lower_bound(D, 3, tours=tours, time_limit=0.2)
     assert answer.bound <= answer.objective * (1 + 1e-9)
+
+
+def test_race_entrant_writes_each_better_routes_as_it_finds_them(tmp_path):
+    """``improve`` tells each better solution's routes as it finds them (makespans never
+    rising); with a routes file, the entrant writes them there, where the race's reader
+    finds the last, its answer (every KPOI once in at most k routes), once."""
+    from milp import race
+    from milp.core.routes import makespan
+
+    D = generate.random_points(18, 4).distances
+    start = [list(range(1, 10)), list(range(10, 19))]
+    path = tmp_path / "routes"
+    read, seen = race.routes_reader(path), []
+    assert read() is None  # nothing written yet
+    heard = []
+    _, info = improve(Instance.from_matrix(D), Problem("tours", robots=3), start, seed=2, iterations=200,
+                      found=heard.append)
+    assert heard and info["value"][0] == pytest.approx(makespan(D, heard[-1], tours=True))
+    answer = race_entrant(D, 3, tours=True, warm_start=start, seed=2, time_limit=1.0, routes_file=str(path))
+    seen.append(read())
+    assert read() is None  # the same routes again: nothing new
+    assert seen[0] is not None and len(seen[0]) <= 3 and sorted(j for r in seen[0] for j in r) == list(range(1, 19))
+    assert makespan(D, seen[0], tours=True) == pytest.approx(answer.objective)
+    values = [makespan(D, r, tours=True) for r in heard]  # better: a smaller makespan or total length
+    assert values == sorted(values, reverse=True)
 
 
 def test_race_entrant_proves_what_meets_the_trivial_bound():

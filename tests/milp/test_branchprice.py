@@ -361,6 +361,29 @@ def test_routes_from_elsewhere_become_the_incumbent_while_the_root_is_solved(see
     assert "another method" not in ignored.message
 
 
+@pytest.mark.parametrize("tours", [False, True])
+def test_a_shorter_makespan_from_elsewhere_ends_the_decision_under_way(tours):
+    """The least makespan from a poor warm start (one route through every KPOI), and
+    ``elsewhere`` handing setpart's optimum (a second exact method) at its third poll,
+    after the bisection: the decision under way takes it, and the next proves it optimal.
+    Routes no shorter than the best so far are not taken."""
+    D, k = euclidean(12, 2), 3
+    ref = setpart.min_makespan(D, k, tours=tours)
+    polls = {"count": 0}
+
+    def elsewhere():
+        polls["count"] += 1
+        return ref.routes if polls["count"] == 3 else None
+
+    poor = [list(range(1, 13))]
+    ours = makespan_search.min_makespan(D, k, tours=tours, warm_start=poor, elsewhere=elsewhere)
+    assert polls["count"] > 3 and ours.status == "optimal" and "routes from another method" in ours.message
+    assert check_solution(D, ours, tours=tours, k=k) == pytest.approx(ref.objective, abs=TOL)
+    same = makespan_search.min_makespan(D, k, tours=tours, warm_start=ref.routes, elsewhere=lambda: poor)
+    assert same.status == "optimal" and same.objective == pytest.approx(ref.objective, abs=TOL)
+    assert "another method" not in same.message
+
+
 def test_coincident_kpois_and_kpois_at_the_start():
     """Zero distances are merged before pricing (no zero-length cycles)."""
     points = np.array([[0, 0], [0, 0], [3, 0], [3, 0], [0, 4], [5, 5], [5, 5]], dtype=float)
