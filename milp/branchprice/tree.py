@@ -7,7 +7,9 @@ of :mod:`milp.branchprice` is one): each node is solved by column generation
 (:func:`rounded_up`), answered by route enumeration (:class:`Settled`) or by an integral
 master, or split on an arc flow (:meth:`milp.branchprice.columns.Node.children`). The primal side runs
 here too: the integer master over the pool at the root and whenever the pool has grown
-:data:`POOL_GROWTH` times, and the caller's ``improve`` heuristic once at the root.
+:data:`POOL_GROWTH` times, the caller's ``improve`` heuristic once at the root, and routes
+another method hands over (:meth:`Search.routes_elsewhere`), taken before and after each
+node and before the tree reports its end.
 """
 
 from __future__ import annotations

@@ -175,49 +175,6 @@ def test_exact_takes_pyvrps_routes_when_they_meet_branch_and_prices_bound(monkey
     assert all(within(route_cost(D, route, tours=True), problem.deadline) for route in solution.routes)
 
 
-#: What the stand-in below was handed by ``elsewhere``, as it polled.
-HANDED: list[list[list[int]]] = []
-
-
-def _polls_for_routes_elsewhere(D, deadline, *, tours, time_limit, warm_start, improve, proven, elsewhere):
-    """A stand-in for branch-and-price that proves nothing and polls ``elsewhere`` (as the
-    real one does between pricing rounds) until the stop or its limit, keeping each routes
-    handed to it."""
-    clock = TimeLimit(time_limit)
-    while not clock.expired() and not stop_requested():
-        routes = elsewhere()
-        if routes is not None:
-            HANDED.append(routes)
-        time.sleep(0.02)
-    best = min(HANDED, key=len, default=warm_start)
-    return MilpResult("feasible", best, float(len(best)), 1.0, None, 0, 0.0, "time limit")
-
-
-def test_pyvrps_routes_reach_branch_and_price_while_it_runs(monkeypatch):
-    """``exact``'s race hands each routes PyVRP finds, fewer than before, to branch-and-price
-    as they are found (a file it polls): from a route per KPOI, the stand-in is handed
-    routes covering every KPOI within the deadline, each fewer than the last, the fewest
-    of them those the race answers with, long before the limit."""
-    from milp import branchprice, race
-
-    if race.cores() < 2:
-        pytest.skip("the race needs two cores")
-    HANDED.clear()
-    monkeypatch.setattr(branchprice, "min_robots", _polls_for_routes_elsewhere)
-    instance = generate.random_points(35, 5)
-    problem = Problem("tours", deadline=1.2 * least_makespan(instance.distances, tours=True))
-    start = [[k] for k in range(1, 36)]
-    solution = exact_module.exact(instance, problem, time_limit=8.0, warm_start=start)
-    assert HANDED, "no routes reached branch-and-price"
-    counts = [len(routes) for routes in HANDED]
-    assert counts == sorted(set(counts), reverse=True) and counts[0] < 35
-    D = instance.distances
-    for routes in HANDED:
-        assert _covers(routes, 35)
-        assert all(within(route_cost(D, route, tours=True), problem.deadline) for route in routes)
-    assert len(solution.routes) <= counts[-1]
-
-
 def _uniform_35_tours() -> tuple[np.ndarray, float]:
     """35 uniform KPOIs, tours within 1.2 x the least makespan: the spanning-tree / clique
     bound is 3, the q-route LP bound 4 (3.07 rounded up), and 4 is the optimum
@@ -247,6 +204,50 @@ def test_the_entrant_proves_the_q_route_bound_before_its_search(tmp_path):
     assert time.perf_counter() - began < 10
     assert warm.status == "optimal" and warm.routes == answer.routes
     assert warm.message.endswith("meets the warm start's routes")
+
+
+#: What the stand-in below was handed by ``elsewhere``, as it polled.
+HANDED: list[list[list[int]]] = []
+
+
+def _polls_for_routes_elsewhere(D, deadline, *, tours, time_limit, warm_start, improve, proven, elsewhere):
+    """A stand-in for branch-and-price that proves nothing and polls ``elsewhere`` (as the
+    real one does between pricing rounds) until the stop or its limit and once after,
+    keeping each routes handed to it."""
+    clock = TimeLimit(time_limit)
+    while True:
+        routes = elsewhere()  # once more after the stop, as the real tree takes them before it ends
+        if routes is not None:
+            HANDED.append(routes)
+        if clock.expired() or stop_requested():
+            break
+        time.sleep(0.02)
+    return MilpResult("feasible", warm_start, float(len(warm_start)), 1.0, None, 0, 0.0, "time limit")
+
+
+def test_pyvrps_routes_reach_branch_and_price_while_it_runs(monkeypatch):
+    """``exact``'s race hands each routes PyVRP finds, fewer than before, to branch-and-price
+    as they are found (a file it polls): from a route per KPOI, the stand-in is handed
+    routes covering every KPOI within the deadline, each fewer than the last, down to the 4
+    that meet the q-route bound (PyVRP's proof, which ends the race long before the limit)."""
+    from milp import branchprice, race
+
+    if race.cores() < 2:
+        pytest.skip("the race needs two cores")
+    HANDED.clear()
+    monkeypatch.setattr(branchprice, "min_robots", _polls_for_routes_elsewhere)
+    D, deadline = _uniform_35_tours()
+    instance = generate.random_points(35, 7)
+    start = [[k] for k in range(1, 36)]
+    began = time.perf_counter()
+    solution = exact_module.exact(instance, Problem("tours", deadline=deadline), time_limit=90.0, warm_start=start)
+    assert time.perf_counter() - began < 60
+    assert solution.status == Status.OPTIMAL and len(solution.routes) == 4
+    assert HANDED, "no routes reached branch-and-price"
+    counts = [len(routes) for routes in HANDED]
+    assert counts == sorted(set(counts), reverse=True) and counts[0] < 35 and counts[-1] == 4
+    for routes in HANDED:
+        assert _covers(routes, 35) and all(within(route_cost(D, route, tours=True), deadline) for route in routes)
 
 
 def _root_proves_three(D, deadline, *, tours, time_limit, warm_start, improve, proven, elsewhere):
