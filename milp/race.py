@@ -45,7 +45,7 @@ from milp.core.orphans import exit_with_parent
 from milp.core.result import MilpResult
 from milp.core.timelimit import interrupt, interrupted, stopping
 
-__all__ = ["race", "race_here", "Entrant", "cores", "share_cores", "write_routes", "routes_reader", "START_SECONDS"]
+__all__ = ["race", "race_here", "Entrant", "cores", "share_cores", "hand_over", "handed_reader", "START_SECONDS"]
 
 #: Seconds kept back from an entrant's time limit for starting its interpreter (imports:
 #: 0.5-0.8 s measured) and sending its answer back.
@@ -157,22 +157,23 @@ class Entrant:
         self._errors.close()
 
 
-def write_routes(path: str | Path, routes: list[list[int]]) -> None:
-    """Hand ``routes`` to the entrant that reads ``path`` (:func:`routes_reader`): JSON,
-    written beside it first and then put in its place, so a reader never sees half."""
+def hand_over(path: str | Path, value: Any) -> None:
+    """Hand ``value`` (routes, a proven bound: anything JSON writes) to the entrant that
+    reads ``path`` (:func:`handed_reader`): written beside it first and then put in its
+    place, so a reader never sees half."""
     written = Path(f"{path}.part")
-    written.write_text(json.dumps(routes))
+    written.write_text(json.dumps(value))
     os.replace(written, path)
 
 
-def routes_reader(path: str | Path) -> Callable[[], list[list[int]] | None]:
-    """What reads the routes another entrant writes to ``path`` (:func:`write_routes`):
-    each call returns them when they were written since the last call, else None (nothing
-    written yet, or nothing new). Cheap enough to call between two pricing rounds: a
-    ``stat`` when nothing is new."""
+def handed_reader(path: str | Path) -> Callable[[], Any | None]:
+    """What reads the values another entrant hands over at ``path`` (:func:`hand_over`):
+    each call returns the last one when it was written since the last call, else None
+    (nothing written yet, or nothing new). Cheap enough to call between two pricing
+    rounds: a ``stat`` when nothing is new."""
     path, seen = Path(path), {"stamp": None}
 
-    def read() -> list[list[int]] | None:
+    def read() -> Any | None:
         try:
             stat = path.stat()
         except FileNotFoundError:

@@ -207,7 +207,7 @@ def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, 
         else:  # the local search hands each better routes to branch-and-price's decisions
             rival, entrant = "best", "parcover.algorithms.local_search:race_entrant"
             rival_kwargs = {**kwargs, "seed": seed + 1, "routes_file": str(routes_file)}
-            here["elsewhere"] = race.routes_reader(routes_file)
+            here["elsewhere"] = race.handed_reader(routes_file)
         log.info("exact: branch-and-price, and %s in another process after %g s unless proven by then",
                  rival, BRANCHPRICE_FIRST)
         answers = race.race_here(RACE_MODELS[0], branchprice.min_makespan, {rival: entrant},
@@ -232,7 +232,7 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
     in this process for the whole time limit, and, unless it has proved the answer within
     :data:`BRANCHPRICE_FIRST` seconds, PyVRP's search for the fewest routes in another
     process (:func:`parcover.algorithms.fleet.race_entrant`, :func:`milp.race.race_here`).
-    Branch-and-price hands the bound its root proves to PyVRP (a file), as soon as a
+    Branch-and-price hands the bound its root proves to PyVRP (a file, :func:`milp.race.hand_over`), as soon as a
     certificate proves it (before the root LP is solved), and PyVRP stops as soon as its
     routes meet it: optimal then, and branch-and-price is stopped. The other way, PyVRP writes
     each routes fewer than before to a second file, and branch-and-price, polling it between
@@ -249,14 +249,12 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
     deadline = problem.effective_deadline(instance)
     with tempfile.TemporaryDirectory(prefix="parcover-") as folder:
         bound_file, routes_file = Path(folder) / "bound", Path(folder) / "routes"
-        bound_file.write_text("")
-
         handed = {"bound": 0}
 
         def proven(floor: int) -> None:
             if floor > handed["bound"]:
                 handed["bound"] = floor
-                bound_file.write_text(str(floor))
+                race.hand_over(bound_file, floor)
 
         def hand_over(floor: int, _root_seconds: float) -> None:
             proven(floor)
@@ -267,7 +265,7 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
             "branchprice", branchprice.min_robots, {"pyvrp": "parcover.algorithms.fleet:race_entrant"},
             (instance.distances, deadline),
             {"tours": problem.tours, "warm_start": start,
-             "improve": hand_over, "proven": proven, "elsewhere": race.routes_reader(routes_file)},
+             "improve": hand_over, "proven": proven, "elsewhere": race.handed_reader(routes_file)},
             time_limit.remaining(), others_after=BRANCHPRICE_FIRST,
             others_kwargs={"tours": problem.tours, "bound_file": str(bound_file), "seed": seed, "warm_start": start,
                            "routes_file": str(routes_file)})

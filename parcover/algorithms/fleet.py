@@ -33,7 +33,6 @@ import math
 import time
 import warnings
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -42,12 +41,10 @@ from milp.branchprice import colgen
 from milp.core.result import MilpResult
 from milp.core.routes import ABS_TOL, REL_TOL, route_cost, within
 from milp.core.timelimit import stop_requested
-from milp.race import write_routes
+from milp.race import hand_over, handed_reader
 
 __all__ = ["fewest_routes", "race_entrant"]
 
-#: Seconds between two reads of the bound file by :func:`race_entrant`.
-BOUND_READ_SECONDS = 0.25
 #: Seconds at most for :func:`race_entrant`'s q-route LP bound (it closed in 3-19 s on the
 #: building-scale questions at 100 KPOIs: ``milp/README.md``).
 QROUTE_SECONDS = 30.0
@@ -177,17 +174,16 @@ def race_entrant(D: np.ndarray, deadline: float, *, tours: bool, bound_file: str
                  routes_file: str | None = None) -> MilpResult:
     """:func:`fewest_routes` as an entrant of :func:`milp.race.race_here`, beside
     branch-and-price: it stops as soon as its routes meet the bound branch-and-price has
-    proved, which that one writes to ``bound_file`` (an integer; empty until the root is
-    solved), read every :data:`BOUND_READ_SECONDS`, or the bound proved here first: the
+    proved, which that one hands over at ``bound_file`` (:func:`milp.race.hand_over`; nothing
+    there until its root proves one), or the bound proved here first: the
     q-route LP bound (:func:`milp.branchprice.colgen.robots_bound`, at most
     :data:`QROUTE_SECONDS`; never below :func:`milp.bounds.robots_lower_bound`'s). Its
     answer is ``"optimal"`` then (the bound is proven; the routes are checked here), else
     ``"feasible"``; when ``warm_start`` (branch-and-price's first routes) already meets the
     q-route bound, those routes, ``"optimal"``, without a search. With ``routes_file``,
-    each routes fewer than any before are written there (JSON, KPOIs ``1..n``; replaced
-    whole, so a reader never sees half of them) as soon as they are found: branch-and-price
-    takes them as its incumbent, and its tree then looks for one route fewer
-    (:func:`milp.branchprice.min_robots`' ``elsewhere``)."""
+    each routes fewer than any before are handed over there (KPOIs ``1..n``) as soon as
+    they are found: branch-and-price takes them as its incumbent, and its tree then looks
+    for one route fewer (:func:`milp.branchprice.min_robots`' ``elsewhere``)."""
     began = time.perf_counter()
     qroute = colgen.robots_bound(D, deadline, tours=tours,
                                  time_limit=QROUTE_SECONDS if time_limit is None else min(QROUTE_SECONDS, time_limit))
@@ -196,25 +192,20 @@ def race_entrant(D: np.ndarray, deadline: float, *, tours: bool, bound_file: str
     if warm_start and len(warm_start) <= cheap:
         return MilpResult("optimal", routes=warm_start, objective=float(len(warm_start)), bound=float(cheap),
                           seconds=time.perf_counter() - began, message=f"{proof} meets the warm start's routes")
-    last = {"read": 0.0, "bound": cheap}
+    handed, last = handed_reader(bound_file), {"bound": cheap}
 
     def proven() -> int:
-        now = time.perf_counter()
-        if now - last["read"] >= BOUND_READ_SECONDS:
-            last["read"] = now
-            text = Path(bound_file).read_text().strip()
-            last["bound"] = max(cheap, int(text) if text else 1)
+        last["bound"] = max(last["bound"], handed() or 0)
         return last["bound"]
 
     left = None if time_limit is None else time_limit - (time.perf_counter() - began)
     routes = fewest_routes(D, deadline, tours=tours, seconds=1e9 if left is None else left,
                            seed=seed, floor=proven, start=warm_start,
-                           found=None if routes_file is None else lambda found: write_routes(routes_file, found))
+                           found=None if routes_file is None else lambda found: hand_over(routes_file, found))
     seconds = time.perf_counter() - began
     if routes is None:
         return MilpResult("unknown", seconds=seconds, message="PyVRP found no routes within the deadline")
-    last["read"] = 0.0  # the file once more: the root may have ended since the last read
-    bound = proven()
+    bound = proven()  # once more: the root may have ended since the last read
     status = "optimal" if len(routes) <= bound else "feasible"
     whose = proof if bound == cheap else f"branch-and-price's root bound {bound}"
     return MilpResult(status, routes=routes, objective=float(len(routes)), bound=float(bound), seconds=seconds,

@@ -65,7 +65,7 @@ import numpy as np
 from milp.core.result import MilpResult
 from milp.core.routes import makespan, within
 from milp.core.timelimit import TimeLimit, TimeLimitLike, stop_requested
-from milp.race import write_routes
+from milp.race import hand_over
 from parcover.algorithms.moves import Key, Search
 from parcover.algorithms.starts import best_construction, min_max_insertion
 from parcover.bounds import lower_bound, robots_lower_bound
@@ -234,7 +234,7 @@ def race_entrant(D: np.ndarray, k: int, *, tours: bool, warm_start: list[list[in
     ``seed``, until the time limit or the trivial lower bound. ``"optimal"`` when its routes
     meet that bound, else ``"feasible"`` with it; the race keeps the better routes and the
     larger bound. With ``routes_file``, each better routes are written there as they are
-    found (:func:`milp.race.write_routes`): branch-and-price's makespan decisions take them
+    found (:func:`milp.race.hand_over`): branch-and-price's makespan decisions take them
     (:func:`milp.branchprice.min_makespan`'s ``elsewhere``)."""
     began = time.perf_counter()
     stop = None if time_limit is None else began + time_limit
@@ -243,7 +243,7 @@ def race_entrant(D: np.ndarray, k: int, *, tours: bool, warm_start: list[list[in
     start = warm_start or best_construction(instance, problem, time_limit=time_limit, seed=seed)[1]
     routes, _ = improve(instance, problem, start, seed=seed, iterations=None if stop else DEFAULT_ITERATIONS,
                         stop=stop, target=bound,
-                        found=None if routes_file is None else lambda found: write_routes(routes_file, found))
+                        found=None if routes_file is None else lambda found: hand_over(routes_file, found))
     value = makespan(D, routes, tours=tours)
     proven = within(value, bound)
     return MilpResult("optimal" if proven else "feasible", routes=routes, objective=value, bound=bound,

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import parcover.exact as exact_module
-from milp import setpart
+from milp import race, setpart
 from milp.core.result import MilpResult
 from milp.core.routes import least_makespan, route_cost, within
 from milp.core.timelimit import TimeLimit, stop_requested
@@ -122,20 +122,19 @@ def test_each_routes_found_are_told_fewer_than_the_last(tours):
 
 def test_the_entrant_stops_at_the_bound_it_is_handed(tmp_path):
     """With branch-and-price's bound in the file, the entrant answers optimal as soon as
-    its routes meet it, long before its time limit; without one (empty file) it uses the
+    its routes meet it, long before its time limit; without one (no file) it uses the
     spanning-tree / clique bound, and answers feasible at its limit when that is lower."""
     D = generate.random_points(25, 4).distances
     deadline = 1.2 * least_makespan(D, tours=True)
     optimum = len(fewest_routes(D, deadline, tours=True, seconds=3.0, seed=1))
     bound_file = tmp_path / "bound"
-    bound_file.write_text(str(optimum))
+    race.hand_over(bound_file, optimum)
     began = time.perf_counter()
     answer = race_entrant(D, deadline, tours=True, bound_file=str(bound_file), seed=1, time_limit=30.0)
     assert time.perf_counter() - began < 10
     assert answer.status == "optimal" and answer.objective == answer.bound == optimum
     assert _covers(answer.routes, 25)
-    bound_file.write_text("")
-    unproven = race_entrant(D, deadline, tours=True, bound_file=str(bound_file), seed=1, time_limit=1.0)
+    unproven = race_entrant(D, deadline, tours=True, bound_file=str(tmp_path / "none"), seed=1, time_limit=1.0)
     assert unproven.status in ("feasible", "optimal") and unproven.bound >= 1
     assert unproven.status == "optimal" or unproven.bound < unproven.objective
 
@@ -157,7 +156,7 @@ def test_exact_takes_pyvrps_routes_when_they_meet_branch_and_prices_bound(monkey
     a stand-in whose root certifies 2 routes) hands its bound to PyVRP, whose routes
     meeting it end the race early: optimal, proven by branch-and-price's bound, routes
     verified. Two tours cover these 35 KPOIs within 2.5 x the least makespan."""
-    from milp import branchprice, race
+    from milp import branchprice
 
     if race.cores() < 2:
         pytest.skip("the race needs two cores")
@@ -184,7 +183,7 @@ def _uniform_35_tours() -> tuple[np.ndarray, float]:
 
 
 def test_the_entrant_proves_the_q_route_bound_before_its_search(tmp_path):
-    """Without a bound from branch-and-price (empty file) the entrant's routes meet the
+    """Without a bound from branch-and-price (no file) the entrant's routes meet the
     q-route LP bound: optimal; and a warm start that meets it is the answer at once."""
     from milp import branchprice
     from milp.bounds import robots_lower_bound
@@ -193,8 +192,7 @@ def test_the_entrant_proves_the_q_route_bound_before_its_search(tmp_path):
     assert robots_lower_bound(D, deadline, tours=True) == 3
     reference = branchprice.min_robots(D, deadline, tours=True, time_limit=120.0)
     assert reference.status == "optimal" and reference.objective == 4
-    bound_file = tmp_path / "bound"
-    bound_file.write_text("")
+    bound_file = tmp_path / "bound"  # never written: branch-and-price proves nothing here
     answer = race_entrant(D, deadline, tours=True, bound_file=str(bound_file), seed=1, time_limit=60.0)
     assert answer.status == "optimal" and answer.objective == answer.bound == 4
     assert "q-route LP bound 4" in answer.message and _covers(answer.routes, 35)
@@ -230,7 +228,7 @@ def test_pyvrps_routes_reach_branch_and_price_while_it_runs(monkeypatch):
     as they are found (a file it polls): from a route per KPOI, the stand-in is handed
     routes covering every KPOI within the deadline, each fewer than the last, down to the 4
     that meet the q-route bound (PyVRP's proof, which ends the race long before the limit)."""
-    from milp import branchprice, race
+    from milp import branchprice
 
     if race.cores() < 2:
         pytest.skip("the race needs two cores")
@@ -263,7 +261,7 @@ def test_exact_names_the_q_route_bound_when_it_proves_the_answer(monkeypatch):
     """Branch-and-price's bound (3, a stand-in) is below the 4 routes; the entrant's
     q-route bound proves them: ``model`` is ``colgen``, and ``verify --certify`` would
     re-prove with branch-and-price."""
-    from milp import branchprice, race
+    from milp import branchprice
     from parcover.certify import certifier_for
 
     if race.cores() < 2:

@@ -175,7 +175,7 @@ def test_race_entrant_writes_each_better_routes_as_it_finds_them(tmp_path):
     D = generate.random_points(18, 4).distances
     start = [list(range(1, 10)), list(range(10, 19))]
     path = tmp_path / "routes"
-    read, seen = race.routes_reader(path), []
+    read, seen = race.handed_reader(path), []
     assert read() is None  # nothing written yet
     heard = []
     _, info = improve(Instance.from_matrix(D), Problem("tours", robots=3), start, seed=2, iterations=200,
