@@ -16,7 +16,8 @@ independently. Six methods:
   for the least makespan with at most :data:`RACE_ROUTES` robots on 21 to
   :data:`RACE_MAX_KPOIS` KPOIs,
   ``branchprice`` in this process for the whole time, against ``branchcut`` in another
-  from :data:`BRANCHPRICE_FIRST` seconds on, on two cores (:func:`_race_makespan`; the
+  from :data:`BRANCHPRICE_FIRST` seconds on (from :data:`SEARCH_FIRST_ROUTES` robots
+  after ``best``'s local search), on two cores (:func:`_race_makespan`; the
   first proof stops the other; one core: ``branchprice`` alone), and above those sizes
   against ``best``'s local search in the same way; for the fewest robots
   above :data:`ROOT_FIRST_MAX` KPOIs, ``branchprice`` here against PyVRP's search for
@@ -116,6 +117,12 @@ BRANCHPRICE_FIRST = 2.0
 #: with 3 routes on random instances branch-and-price is 5-20x faster.
 RACE_ROUTES = 3
 RACE_MODELS = ("branchprice", "branchcut")
+#: From this many robots (up to :data:`RACE_ROUTES`) the race's branch-and-cut gives a share
+#: of its time to ``best``'s local search first: with 3 tours at 50 KPOIs it found shorter
+#: routes that branch-and-cut never did, while with 2 the warm start is near the optimum and
+#: branch-and-cut needs its time for the proof (Necula's eil76 with 2 tours, proven in
+#: 132-206 s, was unproven at 420 s behind the local search; milp/README.md).
+SEARCH_FIRST_ROUTES = 3
 #: ``exact`` races up to this many KPOIs: branch-and-cut's size limit.
 RACE_MAX_KPOIS = BRANCHCUT_MAX_KPOIS
 
@@ -187,27 +194,31 @@ def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, 
     """The least makespan: :func:`milp.branchprice.min_makespan` in this process for the
     whole time limit, and, unless it has proved the answer within
     :data:`BRANCHPRICE_FIRST` seconds, a rival in another process for the time left
-    (:func:`milp.race.race_here`): ``branchcut`` for at most :data:`RACE_ROUTES` robots
-    and :data:`RACE_MAX_KPOIS` KPOIs, else ``best``'s local search from the same warm
-    start (:func:`parcover.algorithms.local_search.race_entrant`), which branch-and-price's
-    tree seldom improves on (it hands each better routes to branch-and-price as it finds
-    them, whose decisions then go on below them); the first proof stops the other. ``info["model"]`` names the
-    method whose routes are returned (the one that proved them, when proven); the bound is
-    the larger of every method's certified bound (:func:`parcover.solve` calls routes that
-    meet it optimal)."""
+    (:func:`milp.race.race_here`): ``best``'s local search from the same warm start
+    (:func:`parcover.algorithms.local_search.race_entrant`), which branch-and-price's
+    tree seldom improves on, handing each better routes to branch-and-price as it finds
+    them (its decisions then go on below them); for at most :data:`RACE_ROUTES` robots and
+    :data:`RACE_MAX_KPOIS` KPOIs ``branchcut`` instead, after the local search for a share
+    of the time from :data:`SEARCH_FIRST_ROUTES` robots
+    (:func:`parcover.algorithms.local_search.searched_branchcut`). The first proof stops
+    the other. ``info["model"]`` names the method whose routes are returned (the one that
+    proved them, when proven); the bound is the larger of every method's certified bound
+    (:func:`parcover.solve` calls routes that meet it optimal)."""
     from milp import branchprice, race
 
     start = warm_start or warm_start_routes(instance, problem, time_limit, seed)
     kwargs = {"tours": problem.tours, "warm_start": start}
     with tempfile.TemporaryDirectory(prefix="parcover-") as folder:
         routes_file = Path(folder) / "routes"
-        here = {**kwargs}
+        # the local search hands each better routes to branch-and-price's decisions
+        here = {**kwargs, "elsewhere": race.handed_reader(routes_file)}
+        rival_kwargs = {**kwargs, "seed": seed + 1, "routes_file": str(routes_file)}
         if problem.robots <= RACE_ROUTES and instance.n <= RACE_MAX_KPOIS:
-            rival, entrant, rival_kwargs = RACE_MODELS[1], f"milp.{RACE_MODELS[1]}:min_makespan", kwargs
-        else:  # the local search hands each better routes to branch-and-price's decisions
+            rival, entrant = RACE_MODELS[1], "parcover.algorithms.local_search:searched_branchcut"
+            if problem.robots < SEARCH_FIRST_ROUTES:  # branch-and-cut alone, with all its time
+                entrant, rival_kwargs = f"milp.{RACE_MODELS[1]}:min_makespan", kwargs
+        else:
             rival, entrant = "best", "parcover.algorithms.local_search:race_entrant"
-            rival_kwargs = {**kwargs, "seed": seed + 1, "routes_file": str(routes_file)}
-            here["elsewhere"] = race.handed_reader(routes_file)
         log.info("exact: branch-and-price, and %s in another process after %g s unless proven by then",
                  rival, BRANCHPRICE_FIRST)
         answers = race.race_here(RACE_MODELS[0], branchprice.min_makespan, {rival: entrant},
@@ -599,7 +610,7 @@ def _solution(answer: Any) -> Solution:
 METHODS = (
     MethodInfo("exact", exact, f"proven optimum: setpart up to {SETPART_FIRST['makespan']} KPOIs, branchprice then "
                f"setpart to {SETPART_MAX_KPOIS}, branchprice to {BRANCHPRICE_MAX_KPOIS} (least makespan with at most "
-               f"{RACE_ROUTES} robots to {RACE_MAX_KPOIS} KPOIs: raced against branchcut, else against best; fewest robots above {ROOT_FIRST_MAX}: "
+               f"{RACE_ROUTES} robots to {RACE_MAX_KPOIS} KPOIs: raced against branchcut, from 3 robots after best, else against best; fewest robots above {ROOT_FIRST_MAX}: "
                "PyVRP looks for routes meeting its bound beside it), compact above (default)",
                ("warm_start", "export_model")),
     MethodInfo("compact", compact, "proven optimum: compact arc-flow MILP in HiGHS", ("warm_start", "export_model")),

@@ -151,6 +151,46 @@ def test_exact_races_branch_and_cut_for_two_long_tours():
     assert alone.status is Status.OPTIMAL and result.value == pytest.approx(alone.value, rel=1e-6)
 
 
+
+def test_exact_hands_the_searched_routes_over_where_branch_and_cut_races(monkeypatch):
+    """3 tours on 22 KPOIs: the rival is branch-and-cut after ``best``'s local search
+    (``searched_branchcut``), which hands each better routes to branch-and-price as it
+    finds them. With a branch-and-price here that proves nothing and a poor warm start,
+    the routes handed over improve on it, and the answer, proven by branch-and-cut, is no
+    longer than the last of them and equals branch-and-price's optimum (a second exact
+    method)."""
+    from milp import branchprice, race
+    import parcover.exact as exact_module
+    from parcover.problem import Problem
+
+    if race.cores() < 2:
+        pytest.skip("the race needs two cores")
+    handed = []
+
+    def nothing_proven(D, k, *, tours, time_limit, warm_start=None, elsewhere=None):
+        from milp.core.result import MilpResult
+        from milp.core.timelimit import TimeLimit, stop_requested
+
+        clock = TimeLimit(time_limit)
+        while not clock.expired() and not stop_requested():
+            routes = elsewhere()  # as branch-and-price polls between pricing rounds
+            if routes is not None:
+                handed.append(routes)
+            time.sleep(0.02)
+        return MilpResult("unknown", [], None, None, None, 0, 0.0, "time limit")
+
+    instance = generate.random_points(22, 8)
+    reference = branchprice.min_makespan(instance.distances, 3, tours=True, time_limit=60.0)
+    monkeypatch.setattr(branchprice, "min_makespan", nothing_proven)
+    poor = [list(range(1, 9)), list(range(9, 16)), list(range(16, 23))]
+    answer = exact_module.exact(instance, Problem("tours", robots=3), time_limit=40.0, warm_start=poor)
+    assert handed, "no routes reached branch-and-price"
+    values = [makespan(instance.distances, routes, tours=True) for routes in handed]
+    assert values == sorted(values, reverse=True) and values[0] < makespan(instance.distances, poor, tours=True)
+    assert reference.status == "optimal" and answer.info["model"] == "branchcut"
+    assert makespan(instance.distances, answer.routes, tours=True) == pytest.approx(reference.objective, rel=1e-6)
+    assert makespan(instance.distances, answer.routes, tours=True) <= values[-1] * (1 + 1e-9)
+
 def test_exact_races_within_its_time_limit():
     # 60 KPOIs, 2 tours: unproven in 6 s; the race and the first branch-and-price share it
     instance = generate.random_points(60, 3)

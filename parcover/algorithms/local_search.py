@@ -53,6 +53,7 @@ stopping rules, and :func:`fewer_robots`. The moves are in
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import random
@@ -92,6 +93,8 @@ log = logging.getLogger(__name__)
 # Of the time limit, the seconds given to the lower bound that may stop the search early
 # (its Held-Karp part then runs when expected within a quarter of them: 5% of the limit).
 _BOUND_SHARE = 0.2
+#: Share of its time :func:`searched_branchcut` gives the local search before branch-and-cut.
+SEARCH_FIRST_SHARE = 0.25
 _ROBOTS_SHARE = 0.4  # of the time limit, robots objective: the rest goes to fewer_robots
 _T_FIRST = 0.03  # annealing temperature at the first round, times the start's makespan
 _T_LAST = 0.001  # ... and at the last round
@@ -249,6 +252,27 @@ def race_entrant(D: np.ndarray, k: int, *, tours: bool, warm_start: list[list[in
     return MilpResult("optimal" if proven else "feasible", routes=routes, objective=value, bound=bound,
                       seconds=time.perf_counter() - began,
                       message="best's routes meet the trivial lower bound" if proven else "best's routes at the time limit")
+
+
+def searched_branchcut(D: np.ndarray, k: int, *, tours: bool, warm_start: list[list[int]] | None = None,
+                       seed: int = 0, time_limit: float | None = None,
+                       routes_file: str | None = None) -> MilpResult:
+    """The race's rival with few long routes: :func:`race_entrant` (``best``'s local search,
+    handing each better routes over at ``routes_file``) for :data:`SEARCH_FIRST_SHARE` of
+    ``time_limit``, then :func:`milp.branchcut.min_makespan` from its routes for the rest.
+    Branch-and-cut improves its warm start seldom (its proofs come from its bound), so it
+    and branch-and-price's decisions, which take the handed routes, start from shorter
+    routes. Its answer is branch-and-cut's, whose routes are never longer than the ones it
+    was given (routes meeting the trivial bound it proves at once)."""
+    from milp import branchcut
+
+    began = time.perf_counter()
+    searched = race_entrant(D, k, tours=tours, warm_start=warm_start, seed=seed, routes_file=routes_file,
+                            time_limit=None if time_limit is None else SEARCH_FIRST_SHARE * time_limit)
+    left = None if time_limit is None else max(0.0, time_limit - (time.perf_counter() - began))
+    answer = branchcut.min_makespan(D, k, tours=tours, time_limit=left, warm_start=searched.routes)
+    return dataclasses.replace(answer, seconds=time.perf_counter() - began,
+                               message=f"from best's local search ({searched.objective:.6g}): {answer.message}")
 
 
 def improve(

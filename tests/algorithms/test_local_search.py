@@ -7,7 +7,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from parcover import Instance, generate, solve
-from parcover.algorithms.local_search import best, improve, min_max_insertion, race_entrant
+from parcover.algorithms.local_search import best, improve, min_max_insertion, race_entrant, searched_branchcut
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
 from parcover.solve import METHODS, available_methods
 from parcover.verify import route_costs
@@ -197,3 +197,27 @@ def test_race_entrant_proves_what_meets_the_trivial_bound():
     answer = race_entrant(D, 6, tours=False, seed=0, time_limit=2.0)
     assert answer.status == "optimal"
     assert answer.objective == pytest.approx(D[0].max())
+
+
+@pytest.mark.parametrize("tours", [False, True])
+def test_searched_branchcut_proves_set_partitionings_optimum_from_the_searched_routes(tmp_path, tours):
+    """The rival with few long routes: the local search from a poor start hands its routes
+    over (shorter than the start), then branch-and-cut proves the least makespan, equal to
+    set partitioning's over every route (a second exact method), with routes no longer
+    than the ones handed over."""
+    from milp import race, setpart
+    from milp.core.routes import makespan
+
+    D = generate.random_points(12, 7).distances
+    start = [list(range(1, 7)), list(range(7, 13))]
+    path = tmp_path / "routes"
+    answer = searched_branchcut(D, 2, tours=tours, warm_start=start, seed=3, time_limit=8.0,
+                                routes_file=str(path))
+    handed = race.handed_reader(path)()
+    reference = setpart.min_makespan(D, 2, tours=tours, time_limit=60.0)
+    assert reference.status == "optimal"
+    assert handed is not None and makespan(D, handed, tours=tours) < makespan(D, start, tours=tours)
+    assert answer.status == "optimal" and answer.objective == pytest.approx(reference.objective, rel=1e-6)
+    assert sorted(j for r in answer.routes for j in r) == list(range(1, 13)) and len(answer.routes) <= 2
+    assert makespan(D, answer.routes, tours=tours) <= makespan(D, handed, tours=tours) + 1e-9
+    assert answer.message.startswith("from best's local search")
