@@ -210,7 +210,7 @@ def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, 
     kwargs = {"tours": problem.tours, "warm_start": start}
     with tempfile.TemporaryDirectory(prefix="parcover-") as folder:
         routes_file = Path(folder) / "routes"
-        # the local search hands each better routes to branch-and-price's decisions
+        # where the rival runs the local search, it hands each better routes to the decisions
         here = {**kwargs, "elsewhere": race.handed_reader(routes_file)}
         rival_kwargs = {**kwargs, "seed": seed + 1, "routes_file": str(routes_file)}
         if problem.robots <= RACE_ROUTES and instance.n <= RACE_MAX_KPOIS:
@@ -243,8 +243,9 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
     in this process for the whole time limit, and, unless it has proved the answer within
     :data:`BRANCHPRICE_FIRST` seconds, PyVRP's search for the fewest routes in another
     process (:func:`parcover.algorithms.fleet.race_entrant`, :func:`milp.race.race_here`).
-    Branch-and-price hands the bound its root proves to PyVRP (a file, :func:`milp.race.hand_over`), as soon as a
-    certificate proves it (before the root LP is solved), and PyVRP stops as soon as its
+    Branch-and-price hands the bound its root proves to PyVRP (a file,
+    :func:`milp.race.hand_over`), as soon as a certificate proves it (before the root LP
+    is solved), and PyVRP stops as soon as its
     routes meet it: optimal then, and branch-and-price is stopped. The other way, PyVRP writes
     each routes fewer than before to a second file, and branch-and-price, polling it between
     pricing rounds, takes them as its incumbent (``elsewhere``): its tree then looks for one
@@ -267,7 +268,7 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
                 handed["bound"] = floor
                 race.hand_over(bound_file, floor)
 
-        def hand_over(floor: int, _root_seconds: float) -> None:
+        def at_root(floor: int, _root_seconds: float) -> None:
             proven(floor)
 
         log.info("exact: branch-and-price, and PyVRP's search for fewer routes in another process after %g s "
@@ -276,7 +277,7 @@ def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, se
             "branchprice", branchprice.min_robots, {"pyvrp": "parcover.algorithms.fleet:race_entrant"},
             (instance.distances, deadline),
             {"tours": problem.tours, "warm_start": start,
-             "improve": hand_over, "proven": proven, "elsewhere": race.handed_reader(routes_file)},
+             "improve": at_root, "proven": proven, "elsewhere": race.handed_reader(routes_file)},
             time_limit.remaining(), others_after=BRANCHPRICE_FIRST,
             others_kwargs={"tours": problem.tours, "bound_file": str(bound_file), "seed": seed, "warm_start": start,
                            "routes_file": str(routes_file)})
@@ -610,7 +611,7 @@ def _solution(answer: Any) -> Solution:
 METHODS = (
     MethodInfo("exact", exact, f"proven optimum: setpart up to {SETPART_FIRST['makespan']} KPOIs, branchprice then "
                f"setpart to {SETPART_MAX_KPOIS}, branchprice to {BRANCHPRICE_MAX_KPOIS} (least makespan with at most "
-               f"{RACE_ROUTES} robots to {RACE_MAX_KPOIS} KPOIs: raced against branchcut, from 3 robots after best, else against best; fewest robots above {ROOT_FIRST_MAX}: "
+               f"{RACE_ROUTES} robots to {RACE_MAX_KPOIS} KPOIs: raced against branchcut, from {SEARCH_FIRST_ROUTES} robots after best, else against best; fewest robots above {ROOT_FIRST_MAX}: "
                "PyVRP looks for routes meeting its bound beside it), compact above (default)",
                ("warm_start", "export_model")),
     MethodInfo("compact", compact, "proven optimum: compact arc-flow MILP in HiGHS", ("warm_start", "export_model")),

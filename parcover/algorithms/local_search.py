@@ -236,7 +236,7 @@ def race_entrant(D: np.ndarray, k: int, *, tours: bool, warm_start: list[list[in
     ``warm_start`` (branch-and-price's start; else :func:`best_construction`) with its own
     ``seed``, until the time limit or the trivial lower bound. ``"optimal"`` when its routes
     meet that bound, else ``"feasible"`` with it; the race keeps the better routes and the
-    larger bound. With ``routes_file``, each better routes are written there as they are
+    larger bound. With ``routes_file``, each better routes are handed over there as they are
     found (:func:`milp.race.hand_over`): branch-and-price's makespan decisions take them
     (:func:`milp.branchprice.min_makespan`'s ``elsewhere``)."""
     began = time.perf_counter()
