@@ -3,7 +3,9 @@
 Exit status: 0 on success (an ``infeasible`` answer is a success), 1 when ``verify``
 finds the solution invalid, 2 with one line on stderr for usage errors and bad input, 130
 when interrupted (a ``solve`` stopped by Ctrl-C prints the best routes it had first, a
-``frontier`` the points it had, ``verify --certify`` its re-proof's outcome so far).
+``frontier`` the points it had, ``verify --certify`` its re-proof's outcome so far, a
+``report`` how many answered rows its gaps.csv keeps); an interrupted ``solve`` whose
+answer is proven all the same (optimal or infeasible) exits with 0.
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ from parcover import generate as gen
 from parcover.certify import Certificate, verify
 from parcover.errors import InputError
 from parcover.frontier import frontier
-from parcover.result import Result, plural
+from parcover.result import Result, Status, plural
 from parcover.instance import Instance
 from parcover.io import FileFormatError, read_instance, read_json, write_instance, write_text_atomic
 from parcover.question import load as load_question
@@ -133,7 +135,7 @@ def _solve(args: argparse.Namespace) -> int:
 
         _draw(lambda: save_routes_plot(instance, result, args.plot), args.plot)
     _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
-    return INTERRUPTED_STATUS if stopped else 0
+    return INTERRUPTED_STATUS if stopped and result.status not in (Status.OPTIMAL, Status.INFEASIBLE) else 0
 
 
 def _ctrl_c_stops(command: str, keeps: str) -> AbstractContextManager[None]:
@@ -247,24 +249,41 @@ def _report(args: argparse.Namespace) -> int:
 
     if os.path.exists(args.out) and not os.path.isdir(args.out):
         raise InputError(f"--out {args.out} is a file; the report needs a folder.")
-    path = write_report(
-        args.instances,
-        args.out,
-        args.methods.split(","),
-        routes=args.routes.split(","),
-        robots=[_whole(k, "--robots") for k in args.robots.split(",")],
-        deadlines=args.deadlines.split(","),
-        reference=args.reference,
-        time_limit=args.time_limit,
-        seed=args.seed,
-        workers=args.workers,
-        scheduler=args.scheduler,
-        progress=False if args.no_progress else None,
-        plots=not args.no_plots,
-        command=args.command_line,
-    )
+    try:
+        path = write_report(
+            args.instances,
+            args.out,
+            args.methods.split(","),
+            routes=args.routes.split(","),
+            robots=[_whole(k, "--robots") for k in args.robots.split(",")],
+            deadlines=args.deadlines.split(","),
+            reference=args.reference,
+            time_limit=args.time_limit,
+            seed=args.seed,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=False if args.no_progress else None,
+            plots=not args.no_plots,
+            command=args.command_line,
+        )
+    except KeyboardInterrupt:
+        print(f"parcover report: interrupted; {_kept_rows_text(args.out)}, the same command resumes from them",
+              file=sys.stderr)
+        return INTERRUPTED_STATUS
     print(f"wrote {path}")
     return 0
+
+
+def _kept_rows_text(out: str) -> str:
+    """How many answered rows an interrupted report left in ``out``/gaps.csv (each row
+    is appended as it comes, :mod:`parcover.report.store`)."""
+    path = os.path.join(out, "gaps.csv")
+    try:
+        with open(path, encoding="utf-8") as f:
+            rows = sum(1 for _ in f) - 1
+    except OSError:
+        rows = 0
+    return f"{plural(max(rows, 0), 'answered row')} kept in {path}"
 
 
 def _props(args: argparse.Namespace) -> int:

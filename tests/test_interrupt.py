@@ -122,6 +122,18 @@ def _ctrl_c_before(monkeypatch, module, name: str, when=lambda *args, **kwargs: 
     monkeypatch.setattr(module, name, interrupted_first)
 
 
+def test_a_solve_proven_before_its_ctrl_c_took_effect_exits_with_0(monkeypatch, capfd):
+    """A Ctrl-C that lands once the method has proven its answer (here: while the result
+    is being built and verified) leaves the answer whole: exit 0, status optimal."""
+    module = importlib.import_module("parcover.solve")  # the package's name is the function
+    _ctrl_c_before(monkeypatch, module, "build_result")
+    grid = str(Path(__file__).resolve().parents[1] / "instances" / "fig1_grid.json")
+    assert cli.main(["solve", grid, "--robots", "2", "--json"]) == 0
+    printed = capfd.readouterr()
+    assert "stopping with the best routes found so far" in printed.err
+    assert json.loads(printed.out)["status"] == "optimal"
+
+
 def test_ctrl_c_ends_a_frontier_with_the_points_found_so_far(monkeypatch, capfd, tmp_path):
     """Stopped while solving k = 2 (the grid's last point), the frontier keeps k = 1 and
     2, says where it ended, and exits with 130; the JSON carries the note."""

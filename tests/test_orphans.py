@@ -81,6 +81,7 @@ def test_an_interrupted_report_leaves_no_worker(tmp_path):
         os.killpg(report.pid, signal.SIGINT)
         _, err = report.communicate(timeout=30)
     assert report.returncode == 130 and "interrupted" in err, err
+    assert "kept in" in err and "the same command resumes from them" in err, err
     assert _gone(workers, 10) == []
 
 
