@@ -26,7 +26,7 @@ from parcover import generate as gen
 from parcover.certify import Certificate, verify
 from parcover.errors import InputError
 from parcover.frontier import frontier
-from parcover.result import Result, Status, plural
+from parcover.result import Result, plural
 from parcover.instance import Instance
 from parcover.io import FileFormatError, read_instance, read_json, write_instance, write_text_atomic
 from parcover.question import load as load_question
@@ -135,7 +135,7 @@ def _solve(args: argparse.Namespace) -> int:
 
         _draw(lambda: save_routes_plot(instance, result, args.plot), args.plot)
     _emit(result.to_json() if args.json else result.summary(), result.to_json(), args.out)
-    return INTERRUPTED_STATUS if stopped and result.status not in (Status.OPTIMAL, Status.INFEASIBLE) else 0
+    return INTERRUPTED_STATUS if stopped and not result.status.decided else 0
 
 
 def _ctrl_c_stops(command: str, keeps: str) -> AbstractContextManager[None]:
@@ -276,14 +276,15 @@ def _report(args: argparse.Namespace) -> int:
 
 def _kept_rows_text(out: str) -> str:
     """How many answered rows an interrupted report left in ``out``/gaps.csv (each row
-    is appended as it comes, :mod:`parcover.report.store`)."""
+    is appended as it comes; :func:`parcover.report.store.read_gaps` drops one cut short)."""
+    from parcover.report.store import read_gaps
+
     path = os.path.join(out, "gaps.csv")
     try:
-        with open(path, encoding="utf-8") as f:
-            rows = sum(1 for _ in f) - 1
-    except OSError:
+        rows = len(read_gaps(path))
+    except InputError:  # not written yet
         rows = 0
-    return f"{plural(max(rows, 0), 'answered row')} kept in {path}"
+    return f"{plural(rows, 'answered row')} kept in {path}"
 
 
 def _props(args: argparse.Namespace) -> int:

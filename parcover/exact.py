@@ -371,7 +371,7 @@ def exact_models(n: int, objective: str, robots: int | None = None) -> set[str]:
 
 def _decided(solution: Solution) -> bool:
     """Whether a model proved its answer (optimal or infeasible)."""
-    return solution.status in (Status.OPTIMAL, Status.INFEASIBLE)
+    return solution.status is not None and solution.status.decided
 
 
 def _share(time_limit: TimeLimit, seconds: float) -> TimeLimit:

@@ -36,6 +36,11 @@ class Status(str, Enum):
     def __str__(self) -> str:
         return self.value
 
+    @property
+    def decided(self) -> bool:
+        """Whether the answer is proven: ``OPTIMAL`` or ``INFEASIBLE``."""
+        return self in (Status.OPTIMAL, Status.INFEASIBLE)
+
 
 def gap(value: float | None, bound: float | None) -> float | None:
     """Relative gap ``(value - bound) / value``.
