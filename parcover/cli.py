@@ -282,7 +282,7 @@ def _kept_rows_text(out: str) -> str:
     path = os.path.join(out, "gaps.csv")
     try:
         rows = len(read_gaps(path))
-    except InputError:  # not written yet
+    except InputError:  # not written yet, or not readable as gaps.csv
         rows = 0
     return f"{plural(rows, 'answered row')} kept in {path}"
 
