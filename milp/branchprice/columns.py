@@ -8,7 +8,6 @@ from KPOI ``i`` to KPOI ``j`` (0 the start); ``(i, 0)`` is the route's end at ``
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -16,7 +15,7 @@ from scipy import sparse
 
 from milp.core.routes import route_cost
 
-__all__ = ["Pool", "Node", "Entries", "entries_split"]
+__all__ = ["Pool", "Node"]
 
 
 class Pool:
@@ -78,44 +77,14 @@ class Pool:
         return (np.flatnonzero(ok) + among.start).tolist()
 
 
-@dataclass(frozen=True)
-class Entries:
-    """A branching row on the routes entering a KPOI set: ``sum_r e_r lambda_r >= rhs``
-    (``at_least``) or ``<= rhs``, with ``e_r`` the arcs by which route ``r`` enters the
-    set (from the start or a KPOI outside it). ``members``: ``(m+1,)`` bool, the set
-    (``members[0]`` False)."""
-
-    members: np.ndarray
-    at_least: bool
-    rhs: int
-
-    def count(self, route: np.ndarray) -> int:
-        """The arcs by which ``route`` (KPOIs in order) enters the set."""
-        inside = self.members[route]
-        return int(inside[0]) + int(np.count_nonzero(inside[1:] & ~inside[:-1]))
-
-    def arc_prize(self, dual: float) -> np.ndarray:
-        """``(m+1, m+1)``: ``dual`` on every arc from outside the set into it."""
-        return np.outer(~self.members, self.members) * dual
-
-
-def entries_split(members: np.ndarray, flow: float) -> tuple[Entries, Entries]:
-    """``(at most floor, at least ceil)`` rows for a set entered ``flow`` times (fractional):
-    every solution lies on one side, its entries being an integer."""
-    return Entries(members, False, math.floor(flow)), Entries(members, True, math.ceil(flow))
-
-
 @dataclass
 class Node:
     """Branching decisions: ``allowed[i, j]`` for the arcs routes may use, row 0 the
     first arcs, column 0 the arcs to the end (``allowed[i, 0]``: a route may end at
-    ``i``); ``entries``, rows on the routes entering KPOI sets (:class:`Entries`: they
-    stay in the master, their duals arc prizes in the pricing); ``depth``, the branchings
-    from the root."""
+    ``i``); ``depth``, the branchings from the root."""
 
     allowed: np.ndarray
     depth: int = 0
-    entries: tuple[Entries, ...] = ()
 
     @classmethod
     def root(cls, m: int) -> Node:
@@ -132,8 +101,7 @@ class Node:
         solution that uses the edge in the imposed child (reverse its tour if needed).
         """
         i, j = arc
-        one = Node(self.allowed.copy(), self.depth + 1, self.entries)
-        zero = Node(self.allowed.copy(), self.depth + 1, self.entries)
+        one, zero = Node(self.allowed.copy(), self.depth + 1), Node(self.allowed.copy(), self.depth + 1)
         zero.allowed[i, j] = False
         if tours:
             zero.allowed[j, i] = False
@@ -143,7 +111,3 @@ class Node:
             one.allowed[i, :] = False
         one.allowed[i, j] = True
         return one, zero
-
-    def with_entries(self, row: Entries) -> Node:
-        """The child with ``row`` added (a branching on the routes entering a set)."""
-        return Node(self.allowed, self.depth + 1, (*self.entries, row))

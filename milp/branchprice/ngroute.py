@@ -70,14 +70,6 @@ only if :math:`p_e` minus the duals of the cuts where ``e``'s bit is set and ``f
 not is still at least :math:`p_f` (Jepsen et al. 2008). The completion bound ignores the
 cuts, which only lower prizes, so it stays an upper bound.
 
-Arc prizes
-----------
-The duals of rows on arc flows (a branching on the routes entering a set) are prizes on
-arcs, of either sign: a label extended from ``i`` to ``j`` collects ``arc_prize[i, j]``
-too. They depend on the label's node and the next KPOI only, so the dominance is
-unchanged; the completion bounds add to each KPOI's prize the largest positive prize on
-an arc into it, so they stay upper bounds.
-
 Growing the neighbourhoods (decremental state-space relaxation)
 ---------------------------------------------------------------
 The exact labelling remembers only part of each neighbourhood, :math:`\Pi_i \subseteq
@@ -228,7 +220,6 @@ class Pricing:
         self.neighbours = [set(np.flatnonzero(_bits(row, self.m + 1)).tolist()) for row in self.neighbourhoods]
         # the part of each neighbourhood the exact labelling remembers (grown by _forbid)
         self.remembered = self.neighbourhoods & ng_neighbourhoods(self.D, min(DSSR_START, ng_size))
-        self.no_arc_prize = np.zeros((self.m + 1, self.m + 1))
         off = self.D[~np.eye(self.m + 1, dtype=bool)]
         self.shortest = float(off.min()) if off.size else 1.0
 
@@ -246,7 +237,6 @@ class Pricing:
         cut_bits: np.ndarray | None = None,
         cut_memory: np.ndarray | None = None,
         penalties: np.ndarray | None = None,
-        arc_prize: np.ndarray | None = None,
         on_prize_bound: Callable[[float], None] | None = None,
     ) -> PricingResult:
         """Routes within ``budget`` with prize above ``threshold``, and the largest prize.
@@ -280,10 +270,6 @@ class Pricing:
         penalties : numpy.ndarray, optional
             ``(MAX_CUTS,)`` non-negative: a route loses ``penalties[t]`` of prize each time
             :func:`cut_coefficients` counts a pair for cut ``t`` (minus the cut's dual).
-        arc_prize : numpy.ndarray, optional
-            ``(m+1, m+1)``, of either sign: a route collects ``arc_prize[i, j]`` each time
-            it goes from ``i`` (0: the start) to KPOI ``j``. The completion bounds add the
-            largest positive prize into each KPOI to its prize, so they stay upper bounds.
         on_prize_bound : callable, optional
             Called, during an exact pricing, with the bound on every elementary route's
             prize that each complete labelling certifies (the value
@@ -295,11 +281,6 @@ class Pricing:
         if cut_bits is None:
             cut_bits, cut_memory = np.zeros(self.m + 1, dtype=np.uint64), np.zeros(self.m + 1, dtype=np.uint64)
             penalties = np.zeros(MAX_CUTS)
-        if arc_prize is None:
-            arc_prize, upper = self.no_arc_prize, prize
-        else:
-            arc_prize = compiled_layout(arc_prize, np.float64)
-            upper = compiled_layout(prize + np.maximum(arc_prize.max(axis=0), 0.0), np.float64)
         grid = grid_step(budget, self.shortest)
         if grid is None:
             delta, G = 1.0, 0
@@ -308,15 +289,15 @@ class Pricing:
             delta, G = grid
             dd = np.floor(self.D / delta).astype(np.int64)
             back = np.floor(self.back / delta).astype(np.int64)
-            table = completion_table(dd, back, upper, allowed, can_end, G, ends_at)
+            table = completion_table(dd, back, prize, allowed, can_end, G, ends_at)
             if table is None:  # the clock stopped it
                 return PricingResult(float(threshold), [], False, 0)
-        prize_bound = walk_bound(self.D, upper, allowed, table, delta, G, budget, self.back, can_end)
+        prize_bound = walk_bound(self.D, prize, allowed, table, delta, G, budget, self.back, can_end)
         total, labellings, progress = 0, 0, Every(log)
         while True:
             arcs = Arcs(self.D, self.back, allowed, can_end, self.remembered if exact else self.neighbourhoods)
             best, ends, parents, nodes, work, complete = _label(
-                arcs, Prizes(prize, cut_bits, cut_memory, penalties, arc_prize), Budget(budget, table, delta, G),
+                arcs, Prizes(prize, cut_bits, cut_memory, penalties), Budget(budget, table, delta, G),
                 threshold, exact, ends_at)
             total += work
             order = most_valuable(ends[:, 1], max_routes)
@@ -487,8 +468,7 @@ class Arcs(NamedTuple):
 
 
 class Prizes(NamedTuple):
-    """What a route collects: KPOI prizes and arc prizes, less the penalties of subset-row
-    cuts."""
+    """What a route collects: KPOI prizes less the penalties of subset-row cuts."""
 
     #: ``(m+1,)`` non-negative, ``prize[0] = 0``.
     prize: np.ndarray
@@ -498,9 +478,6 @@ class Prizes(NamedTuple):
     cut_memory: np.ndarray
     #: ``(MAX_CUTS,)`` non-negative: the prize a route loses each time cut ``t`` counts.
     penalties: np.ndarray
-    #: ``(m+1, m+1)``: the prize of each use of arc ``(i, j)``, ``j > 0`` (the duals of
-    #: rows on arc flows, such as a branching on the routes entering a set; of either sign).
-    arc_prize: np.ndarray
 
 
 class Budget(NamedTuple):
@@ -637,7 +614,7 @@ def _label(arcs, prizes, budget, threshold, exact, ends_at):  # pragma: no cover
     ``ends_at`` the labelling stops (``complete`` False).
     """
     D, back, allowed, can_end, neighbourhoods = arcs
-    prize, cut_bits, cut_memory, penalties, arc_prize = prizes
+    prize, cut_bits, cut_memory, penalties = prizes
     U, table, delta, G = budget
     m1 = D.shape[0]
     W = neighbourhoods.shape[1]
@@ -714,7 +691,7 @@ def _label(arcs, prizes, budget, threshold, exact, ends_at):  # pragma: no cover
             nl = li + D[i, j]
             if nl + back[j] > U:
                 continue
-            nv = vi + prize[j] + arc_prize[i, j]
+            nv = vi + prize[j]
             kept = parity[lab] & cut_memory[j]
             hit = cut_bits[j] & kept
             if hit:

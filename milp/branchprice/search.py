@@ -63,23 +63,7 @@ fewest-robots cells at n = 50 closed at the root).
 
 Branching
 ---------
-First on the routes entering a KPOI set (Fukasawa et al. 2006 branch on such cut-sets in
-their branch-and-cut-and-price for the CVRP): for a set :math:`S` of the candidates (the
-clusters of an average-linkage tree of the distances: rooms, groups far from the rest)
-entered :math:`f` times by the master's solution, :math:`f` fractional,
-
-.. math::
-    (6)\quad \sum_r e_{Sr}\lambda_r \le \lfloor f \rfloor
-    \quad\text{or}\quad \sum_r e_{Sr}\lambda_r \ge \lceil f \rceil,
-
-:math:`e_{Sr}` the arcs by which route :math:`r` enters :math:`S` (an integer in every
-solution, so every solution lies in one child). The rows stay in the node's master and
-their duals are prizes on the arcs into :math:`S` in the pricing, whose structure does
-not change (:class:`milp.branchprice.columns.Entries`). Measured on a clustered cell
-(50 KPOIs, 3 paths, at its best makespan; root LP 2.948 routes): the "at most" child of
-the set chosen closed at once, the other rose to 2.974, where the arc children of strong
-branching rose by about 0.003 each and none closed. Then, when no candidate set is
-fractional, on arc flows :math:`x_{ij} = \sum_r \lambda_r [r \text{ uses } (i, j)]`, arcs from the
+On arc flows :math:`x_{ij} = \sum_r \lambda_r [r \text{ uses } (i, j)]`, arcs from the
 start and arcs to the end of a route included (for tours on edge flows
 :math:`x_{ij} + x_{ji}`, a tour and its reverse being one tour): the most fractional arc
 is forbidden in one child (``x = 0``; for tours both directions) and imposed in the other
@@ -130,7 +114,7 @@ from scipy import sparse
 
 from milp.bounds import robots_lower_bound as tree_robots_bound
 from milp.branchprice import colgen, enumeration, ngroute
-from milp.branchprice.columns import Entries, Node, Pool, entries_split
+from milp.branchprice.columns import Node, Pool
 from milp.branchprice.compiling import (
     COMPILE_SECONDS,
     announce_compiling,
@@ -219,12 +203,6 @@ CUTS_PER_KPOI = 4
 CUT_MIN_ROUTES = 6
 #: Strong branching scores this many of the most fractional arcs (1: no scoring).
 STRONG_CANDIDATES = 8
-#: Branch on the routes entering KPOI sets before arcs (:meth:`BranchAndPrice.branching`).
-SET_BRANCHING = True
-#: The candidate sets are the clusters of 2 to this many (:meth:`BranchAndPrice.candidate_sets`).
-SET_LEVELS = 8
-#: A set's entries branch only when at least this far from an integer.
-SET_FRACTION = 0.05
 #: A lambda or an arc flow within this of an integer counts as integral.
 INTEGRAL = 1e-6
 #: Route enumeration (:mod:`milp.branchprice.enumeration`) at a node whose LP leaves a gap below
@@ -256,9 +234,6 @@ ENUMERATION_SHARE = 0.25
 ENUMERATION_RETRY = 0.5
 #: Prize slack of the enumeration threshold (round-off in sums of duals).
 ENUMERATION_SLACK = 1e-9
-#: Cost of the artificial column relaxing each entry row (6) of a node's master: more than
-#: any count of routes, so the LP uses it only while no routes meet the row.
-ARTIFICIAL_COST = 1e4
 
 
 @dataclass
@@ -309,7 +284,6 @@ class BranchAndPrice:
         self.handed: list[list[int]] | None = None  # polled, not yet taken by the tree
         self.taken: list[list[int]] | None = None  # the last routes the tree took
         self.progress = Every(log)  # column generation's progress lines (--log)
-        self._candidate_sets: list[np.ndarray] | None = None  # candidate_sets, once computed
 
     @contextmanager
     def until(self, ends_at: float | None) -> Iterator[None]:
@@ -362,7 +336,7 @@ class BranchAndPrice:
     def price(self, prize: np.ndarray, budget: float, node: Node, *, exact: bool,
               threshold: float = 1.0, cut_bits: np.ndarray | None = None,
               cut_memory: np.ndarray | None = None,
-              penalties: np.ndarray | None = None, arc_prize: np.ndarray | None = None,
+              penalties: np.ndarray | None = None,
               on_prize_bound: Callable[[float], None] | None = None) -> ngroute.PricingResult:
         """One pricing at ``node``, stopped by the search's time limit (``on_prize_bound``: as
         :meth:`milp.branchprice.ngroute.Pricing.price`)."""
@@ -370,29 +344,17 @@ class BranchAndPrice:
                                   exact=exact, threshold=threshold,
                                   ends_at=math.inf if self.ends_at is None else self.ends_at,
                                   cut_bits=cut_bits, cut_memory=cut_memory, penalties=penalties,
-                                  arc_prize=arc_prize, on_prize_bound=on_prize_bound)
+                                  on_prize_bound=on_prize_bound)
 
-    def _master(self, columns: list[int], node: Node) -> highspy.Highs:
-        """The LP (1)-(2) over ``columns`` of the pool, with the subset-row cuts (5) and
-        ``node``'s rows on the routes entering KPOI sets (6). Each row (6) has an
-        artificial column first (cost :data:`ARTIFICIAL_COST`, relaxing it), so that the
-        master is feasible before the pricing has found routes that meet it; Farley's
-        bound holds whatever the master (it is computed over routes only)."""
+    def _master(self, columns: list[int]) -> highspy.Highs:
+        """The LP (1)-(2) over ``columns`` of the pool, with the subset-row cuts (5)."""
         h = new_highs(None)
-        cuts, rows = len(self.cuts), node.entries
-        artificial = sparse.csc_matrix(
-            (np.array([1.0 if row.at_least else -1.0 for row in rows]),
-             (self.m + cuts + np.arange(len(rows)), np.arange(len(rows)))),
-            shape=(self.m + cuts + len(rows), len(rows)))
-        matrix = sparse.hstack([artificial, self._matrix(columns, node)]).tocsc()
-        n = len(rows) + len(columns)
-        costs = np.concatenate((np.full(len(rows), ARTIFICIAL_COST), np.ones(len(columns))))
-        lp = make_lp(costs, (np.zeros(n), np.full(n, np.inf)), matrix,
-                     (np.concatenate((np.ones(self.m), np.full(cuts, -np.inf),
-                                      [row.rhs if row.at_least else -np.inf for row in rows])),
-                      np.concatenate((np.full(self.m, np.inf), np.ones(cuts),
-                                      [np.inf if row.at_least else row.rhs for row in rows]))),
-                     np.zeros(n, dtype=bool))
+        cuts = len(self.cuts)
+        lp = make_lp(np.ones(len(columns)), (np.zeros(len(columns)), np.full(len(columns), np.inf)),
+                     self._matrix(columns),
+                     (np.concatenate((np.ones(self.m), np.full(cuts, -np.inf))),
+                      np.concatenate((np.full(self.m, np.inf), np.ones(cuts)))),
+                     np.zeros(len(columns), dtype=bool))
         h.passModel(lp)
         return h
 
@@ -403,21 +365,14 @@ class BranchAndPrice:
         cols = np.repeat(np.arange(len(orders)), [len(o) for o in orders])
         return sparse.csc_matrix((np.ones(len(rows)), (rows, cols)), shape=(self.m, len(orders)))
 
-    def _matrix(self, columns: list[int], node: Node) -> sparse.csc_matrix:
-        """Rows of the master: visit counts (2), then each cut's coefficients (5), then the
-        entries of each column into the sets of ``node``'s rows (6)."""
+    def _matrix(self, columns: list[int]) -> sparse.csc_matrix:
+        """Rows of the master: visit counts (2), then each cut's coefficients (5)."""
         coverage = self._coverage(columns)
-        if not self.cuts and not node.entries:
+        if not self.cuts:
             return coverage
-        orders = [self.pool.orders[c] for c in columns]
-        blocks = [coverage]
-        if self.cuts:
-            blocks.append(sparse.csr_matrix(ngroute.cut_coefficients(orders, self.cut_bits, self.cut_memory,
-                                                                     len(self.cuts))))
-        if node.entries:
-            blocks.append(sparse.csr_matrix(np.array([[row.count(o) for o in orders] for row in node.entries],
-                                                     dtype=np.float64).reshape(len(node.entries), len(orders))))
-        return sparse.vstack(blocks).tocsc()
+        rows = ngroute.cut_coefficients([self.pool.orders[c] for c in columns], self.cut_bits,
+                                        self.cut_memory, len(self.cuts))
+        return sparse.vstack([coverage, sparse.csr_matrix(rows)]).tocsc()
 
     def solve_node(self, node: Node, budget: float, target: float) -> LpOutcome:
         """Column generation at ``node`` until its bound exceeds ``target`` (closed), the
@@ -449,12 +404,10 @@ class BranchAndPrice:
         value and the certified bound, the pricing rounds, the columns and cuts."""
         if self.out_of_time():
             return LpOutcome(known.bound, known.value, columns, known.x, Why.TIME_LIMIT, None, known.duals)
-        h = self._master(columns, node)
+        h = self._master(columns)
         bound, center, certificate = known.bound, None, known.duals
         if certificate is not None:  # cuts added since: their duals 0 certify the same bound
-            added = self.m + len(self.cuts) + len(node.entries) - len(certificate)
-            at = len(certificate) - len(node.entries)
-            certificate = np.concatenate((certificate[:at], np.zeros(added), certificate[at:]))
+            certificate = np.concatenate((certificate, np.zeros(self.m + len(self.cuts) - len(certificate))))
         # the best certificate from a pricing not exact (PRIZE_BOUND_CERTIFICATES): it closes
         # the node and is reported when above ``bound``, but only exact certificates tell
         # when the LP is solved
@@ -471,14 +424,9 @@ class BranchAndPrice:
             assert h.getModelStatus() == highspy.HighsModelStatus.kOptimal, "master LP not solved"
             value = float(h.getInfo().objective_function_value)
             row_dual = np.asarray(h.getSolution().row_dual, dtype=np.float64)
-            # (pi, sigma, mu): covering duals >= 0, cut duals with their sign turned, and the
-            # duals of the entry rows (6), >= 0 on rows "at least", <= 0 on rows "at most"
-            cut_end = self.m + len(self.cuts)
-            mu = np.array([max(d, 0.0) if row.at_least else min(d, 0.0)
-                           for d, row in zip(row_dual[cut_end:], node.entries)])
-            duals = np.concatenate((np.maximum(row_dual[:self.m], 0.0),
-                                    np.maximum(-row_dual[self.m:cut_end], 0.0), mu))
-            x = np.asarray(h.getSolution().col_value, dtype=np.float64)[len(node.entries):]
+            # (pi, sigma) >= 0: covering duals, and cut duals with their sign turned
+            duals = np.concatenate((np.maximum(row_dual[:self.m], 0.0), np.maximum(-row_dual[self.m:], 0.0)))
+            x = np.asarray(h.getSolution().col_value, dtype=np.float64)
             if self.progress.due():
                 log.info("column generation, node %d: LP %.6g routes, bound %.6g, after %d pricing rounds "
                          "(%d columns, %d cuts)", self.nodes, value, max(bound, weak, 0.0), rounds,
@@ -495,15 +443,15 @@ class BranchAndPrice:
             smoothed = duals if previous is None else NEAME_SMOOTHING * previous + (1 - NEAME_SMOOTHING) * duals
             for y, exact in self._duals_to_try(duals, center, None if previous is None else smoothed):
                 res = self._price_duals(y, budget, node, exact=exact,
-                                        threshold=self._closing_prize(y, target, node) if exact else 1.0,
+                                        threshold=self._closing_prize(y, target) if exact else 1.0,
                                         on_prize_bound=self._root_listener(node, y))
                 if res.exact:
-                    certified = self._farley(y, res.best, node)
+                    certified = self._farley(y, res.best)
                     if certified > bound:
                         bound, center = certified, y / max(res.best, 1.0)
                         certificate = center
                 elif PRIZE_BOUND_CERTIFICATES and math.isfinite(res.prize_bound):
-                    certified = self._farley(y, res.prize_bound, node)
+                    certified = self._farley(y, res.prize_bound)
                     if certified > max(weak, bound):
                         weak, weak_duals = certified, y / max(res.prize_bound, 1.0)
                         self.prize_bound_raised += 1
@@ -511,7 +459,7 @@ class BranchAndPrice:
                     self._root_certified(max(bound, weak))
                 if rounded_up(max(bound, weak)) > target:
                     return outcome(Why.CLOSED)
-                useful = [r for r in res.routes if self._route_value(r, duals, node) > 1 + PRICES_OUT]
+                useful = [r for r in res.routes if self._route_value(r, duals) > 1 + PRICES_OUT]
                 found = self._append(h, columns, useful, budget, node)
                 if found:
                     break
@@ -530,7 +478,7 @@ class BranchAndPrice:
         bound the pricing certifies on its way."""
         if self.root_bound_listener is None or node.depth != 0:
             return None
-        return lambda prize_bound: self._root_certified(self._farley(y, prize_bound, node))
+        return lambda prize_bound: self._root_certified(self._farley(y, prize_bound))
 
     def _root_certified(self, bound: float) -> None:
         """Tell :attr:`root_bound_listener` the routes a certified bound of the root LP
@@ -541,55 +489,40 @@ class BranchAndPrice:
             log.info("branch-and-price: the root's certificates prove at least %d routes", self.root_bound_told)
             self.root_bound_listener(self.root_bound_told)
 
-    def _dual_objective(self, y: np.ndarray, node: Node) -> float:
-        """The dual objective of ``y = (pi, sigma, mu)``: ``sum(pi) - sum(sigma) + sum(rhs mu)``
-        over the covering rows (2), the cuts (5) (right-hand side 1) and ``node``'s entry
-        rows (6)."""
-        cut_end = self.m + len(self.cuts)
-        rhs = np.array([row.rhs for row in node.entries], dtype=np.float64)
-        return float(y[:self.m].sum() - y[self.m:cut_end].sum() + rhs @ y[cut_end:])
+    def _farley(self, y: np.ndarray, best: float) -> float:
+        """Farley's bound (4) for duals ``y = (pi, sigma)`` whose best route prize is ``best``:
+        the dual objective ``sum(pi) - sum(sigma)`` over ``max(best, 1)``."""
+        return float(y[:self.m].sum() - y[self.m:].sum()) / (max(best, 1.0) * (1 + CERT_TOL))
 
-    def _farley(self, y: np.ndarray, best: float, node: Node) -> float:
-        """Farley's bound (4) for duals ``y = (pi, sigma, mu)`` whose best route prize is
-        ``best``: the dual objective (:meth:`_dual_objective`) over ``max(best, 1)``."""
-        return self._dual_objective(y, node) / (max(best, 1.0) * (1 + CERT_TOL))
-
-    def _closing_prize(self, y: np.ndarray, target: float, node: Node) -> float:
+    def _closing_prize(self, y: np.ndarray, target: float) -> float:
         """The prize a route must beat for duals ``y`` to leave the node open: when no
         route's prize exceeds it, Farley's bound (4) is above ``target`` and the node
         closes. At least 1 (a column must price out). Pricing with it as threshold prunes
         every label that could only reach prizes between 1 and it (early termination of
         column generation by the Lagrangian bound, Desaulniers, Desrosiers and Solomon,
         "Column Generation", 2005, ch. 1)."""
-        closing = self._dual_objective(y, node) / ((1 + CERT_TOL) * (target + 2 * ROUND))
+        dual_objective = float(y[:self.m].sum() - y[self.m:].sum())
+        closing = dual_objective / ((1 + CERT_TOL) * (target + 2 * ROUND))
         return max(1.0, closing)
 
     def _price_duals(self, y: np.ndarray, budget: float, node: Node, *, exact: bool,
                      threshold: float = 1.0,
                      on_prize_bound: Callable[[float], None] | None = None) -> ngroute.PricingResult:
-        """Pricing for duals ``y = (pi, sigma, mu)``: prizes ``pi``, cut penalties ``sigma``,
-        the entry rows' ``mu`` as arc prizes; routes whose prize exceeds ``threshold``."""
-        cut_end = self.m + len(self.cuts)
+        """Pricing for duals ``y = (pi, sigma)``: prizes ``pi``, cut penalties ``sigma``;
+        routes whose prize exceeds ``threshold``."""
         penalties = np.zeros(ngroute.MAX_CUTS)
-        penalties[:len(self.cuts)] = y[self.m:cut_end]
-        arc_prize = None
-        if node.entries:
-            arc_prize = sum(row.arc_prize(mu) for row, mu in zip(node.entries, y[cut_end:]))
+        penalties[:len(self.cuts)] = y[self.m:]
         return self.price(np.concatenate(([0.0], y[:self.m])), budget, node, exact=exact,
                           threshold=threshold, cut_bits=self.cut_bits, cut_memory=self.cut_memory,
-                          penalties=penalties, arc_prize=arc_prize, on_prize_bound=on_prize_bound)
+                          penalties=penalties, on_prize_bound=on_prize_bound)
 
-    def _route_value(self, route: np.ndarray, y: np.ndarray, node: Node) -> float:
-        """A route's prize under duals ``y = (pi, sigma, mu)``: its visits' ``pi`` minus its
-        cuts' ``sigma`` (times the cut's coefficient), plus ``mu`` times its entries into
-        each set of ``node``'s rows (6)."""
+    def _route_value(self, route: np.ndarray, y: np.ndarray) -> float:
+        """A route's prize under duals ``y``: its visits' ``pi`` minus its cuts' ``sigma``
+        (times the cut's coefficient)."""
         value = float(y[route - 1].sum())
-        cut_end = self.m + len(self.cuts)
         if self.cuts:
             alpha = ngroute.cut_coefficients([route], self.cut_bits, self.cut_memory, len(self.cuts))
-            value -= float(y[self.m:cut_end] @ alpha[:, 0])
-        for row, mu in zip(node.entries, y[cut_end:]):
-            value += float(mu) * row.count(route)
+            value -= float(y[self.m:] @ alpha[:, 0])
         return value
 
     def _separate(self, outcome: LpOutcome) -> bool:
@@ -659,7 +592,7 @@ class BranchAndPrice:
         """Add ``routes`` to the pool and, when they fit, to the master ``h``."""
         fresh = self.pool.fitting(budget, node, self.pool.add(routes))
         if fresh:
-            matrix = self._matrix(fresh, node).tocsc()
+            matrix = self._matrix(fresh).tocsc()
             h.addCols(len(fresh), np.ones(len(fresh)), np.zeros(len(fresh)),
                       np.full(len(fresh), highspy.kHighsInf), matrix.nnz,
                       matrix.indptr[:-1].astype(np.int32), matrix.indices.astype(np.int32),
@@ -673,86 +606,6 @@ class BranchAndPrice:
         if any(abs(outcome.x[i] - 1) > INTEGRAL for i, v in enumerate(outcome.x) if v > INTEGRAL):
             return None
         return first_visits([self.pool.orders[c] for c in chosen])
-
-    def branching(self, node: Node, outcome: LpOutcome, target: int) -> list[Node] | None:
-        """The children of ``node``, the one to search first last (None: nothing to branch
-        on). On the routes entering a KPOI set when one of :meth:`candidate_sets` is
-        entered a fractional number of times (:meth:`branching_set`), else on an arc
-        (:meth:`branching_arc`, imposing first)."""
-        split = self.branching_set(node, outcome, target) if SET_BRANCHING else None
-        if split is not None:
-            at_most, at_least = split
-            return [node.with_entries(at_least), node.with_entries(at_most)]
-        arc = self.branching_arc(node, outcome, target)
-        if arc is None:
-            return None
-        one, zero = node.children(arc, tours=self.tours)
-        return [zero, one]
-
-    def candidate_sets(self) -> list[np.ndarray]:
-        """KPOI sets to branch on (``(m+1,)`` bool masks): the clusters of an average-linkage
-        tree of the distances cut into 2 to :data:`SET_LEVELS` clusters, of at least 3
-        KPOIs (rooms, and groups of KPOIs far from the rest), computed once."""
-        if self._candidate_sets is None:
-            from scipy.cluster.hierarchy import fcluster, linkage
-            from scipy.spatial.distance import squareform
-
-            K = self.pricing.D[1:, 1:]
-            sets: list[np.ndarray] = []
-            if self.m >= 6:
-                tree = linkage(squareform((K + K.T) / 2, checks=False), "average")
-                for level in range(2, SET_LEVELS + 1):
-                    labels = fcluster(tree, level, "maxclust")
-                    for c in np.unique(labels):
-                        mask = np.concatenate(([False], labels == c))
-                        if 3 <= mask.sum() < self.m and not any((mask == known).all() for known in sets):
-                            sets.append(mask)
-            self._candidate_sets = sets
-        return self._candidate_sets
-
-    def branching_set(self, node: Node, outcome: LpOutcome, target: int) -> tuple[Entries, Entries] | None:
-        """The ``(at most, at least)`` rows of the candidate set whose entries are
-        fractional (more than 1, at least :data:`INTEGRAL` from an integer) with the best
-        strong-branching score, as :meth:`branching_arc` scores arcs (each child the node's
-        master with its row added, re-solved, no pricing), among the
-        :data:`STRONG_CANDIDATES` closest to half an entry; None when none is fractional."""
-        used = [row.members for row in node.entries]
-        scored = []
-        for mask in self.candidate_sets():
-            if any((mask == known).all() for known in used):
-                continue
-            probe = Entries(mask, True, 0)
-            flow = sum(v * probe.count(self.pool.orders[c]) for c, v in zip(outcome.columns, outcome.x) if v > INTEGRAL)
-            if flow > 1 and flow - math.floor(flow) > SET_FRACTION and math.ceil(flow) - flow > SET_FRACTION:
-                scored.append((abs(flow - math.floor(flow) - 0.5), entries_split(mask, flow)))
-        scored.sort(key=lambda item: item[0])
-        candidates = [split for _, split in scored[:STRONG_CANDIDATES]]
-        if len(candidates) <= 1:
-            return candidates[0] if candidates else None
-        best, chosen = -math.inf, candidates[0]
-        for split in candidates:
-            if self.out_of_time():
-                break
-            values = [self._row_child_value(outcome, node, row) for row in split]
-            gains = [max(min(v, target + 1.0) - outcome.value, LEAST_GAIN) for v in values]
-            if gains[0] * gains[1] > best:
-                best, chosen = gains[0] * gains[1], split
-        return chosen
-
-    def _row_child_value(self, outcome: LpOutcome, node: Node, row: Entries) -> float:
-        """The node's master LP value with ``row`` added, re-solved from the node's optimal
-        basis (inf when infeasible); the row is removed after."""
-        h = outcome.master
-        assert h is not None, "branching on a node whose master LP was not solved"
-        coefficients = np.array([row.count(self.pool.orders[c]) for c in outcome.columns], dtype=np.float64)
-        used = np.flatnonzero(coefficients)
-        lower, upper = (row.rhs, highspy.kHighsInf) if row.at_least else (-highspy.kHighsInf, row.rhs)
-        h.addRow(lower, upper, len(used), (used + len(node.entries)).astype(np.int32), coefficients[used])
-        h.run()
-        solved = h.getModelStatus() == highspy.HighsModelStatus.kOptimal
-        value = float(h.getInfo().objective_function_value) if solved else math.inf
-        h.deleteRows(1, np.array([h.getNumRow() - 1], dtype=np.int32))
-        return value
 
     def branching_arc(self, node: Node, outcome: LpOutcome, target: int) -> tuple[int, int] | None:
         """The arc to branch on: among the :data:`STRONG_CANDIDATES` most fractional, the
@@ -779,7 +632,7 @@ class BranchAndPrice:
         """The node's master LP value with the columns ``child`` forbids fixed at 0,
         re-solved from the node's optimal basis (inf when infeasible); the bounds are
         restored after."""
-        banned = (np.flatnonzero(~self.pool.allows(child, outcome.columns)) + len(child.entries)).astype(np.int32)
+        banned = np.flatnonzero(~self.pool.allows(child, outcome.columns)).astype(np.int32)
         if len(banned) == 0:
             return outcome.value
         h = outcome.master
@@ -877,7 +730,7 @@ class BranchAndPrice:
         maximal sets (n = 40 k = 5 tours, `parcover generate random --n 40 --seed 51`) made
         the later masters and integer masters cost 9 s more."""
         low, high = ENUMERATION_ROUTES
-        if node.entries or not low <= target <= high or target - outcome.value >= self.enumeration_gap:
+        if not low <= target <= high or target - outcome.value >= self.enumeration_gap:
             return outcome, None
         outcome = self._column_generation(node, budget, target, outcome.columns, outcome, converge=True)
         if outcome.why not in (Why.SOLVED, Why.CLOSED) or outcome.duals is None:

@@ -131,9 +131,8 @@ class Search(Protocol[Outcome]):
         outcome and, when answered, the node's fewest routes (those of least makespan
         with ``shortest``)."""
 
-    def branching(self, node: Node, outcome: Outcome, target: int) -> list[Node] | None:
-        """The children of ``node``, the one to search first last, or None when there is
-        nothing to branch on."""
+    def branching_arc(self, node: Node, outcome: Outcome, target: int) -> tuple[int, int] | None:
+        """The arc to branch on, or None when there is none."""
 
     def support_covering(self, outcome: Outcome) -> list[list[int]] | None:
         """A covering by the fewest of the master's positive columns, or None (for a
@@ -241,15 +240,16 @@ class Decision:
             return None, []
         if search.integral_routes(outcome) is not None:
             return None, []  # an integral LP optimum: nothing better below this node
-        children = search.branching(node, outcome, self.target)
-        if children is None:  # integral arc flows, fractional lambda: crossing routes
+        arc = search.branching_arc(node, outcome, self.target)
+        if arc is None:  # integral arc flows, fractional lambda: crossing routes
             routes = search.support_covering(outcome)
             if self._accept(routes):
                 return Ending.FOUND, []
             if routes is None or len(routes) > rounded:
                 self.unresolved = True
             return None, []
-        return None, children
+        one, zero = node.children(arc, tours=search.tours)
+        return None, [zero, one]  # imposing first
 
     def _root_candidates(self, rounded: float) -> list[list[list[int]] | None]:
         """At the root, routes that may beat the target: the integer master over the pool

@@ -22,7 +22,7 @@ from milp_helpers import TOL, check_solution, euclidean, graph_metric
 from milp import setpart
 from milp.bounds import robots_lower_bound
 from milp.branchprice import colgen, ngroute, tree
-from milp.branchprice.columns import Entries, Node, entries_split
+from milp.branchprice.columns import Node
 from milp.branchprice import makespan as makespan_search
 from milp.branchprice import search as branchprice
 from milp.branchprice.ngroute import MAX_CUTS, Pricing
@@ -135,7 +135,6 @@ def test_strong_branching_reaches_setparts_optimum(monkeypatch):
 
     monkeypatch.setattr(branchprice.BranchAndPrice, "branching_arc", recording)
     monkeypatch.setattr(branchprice, "ENUMERATION_ROUTES", (0, -1))  # enumeration would answer the root
-    monkeypatch.setattr(branchprice, "SET_BRANCHING", False)  # arcs only
     # seed 1 branches at both sizes (measured: with the most fractional arc instead, n = 16
     # is not proven in 60 s)
     for n, k in ((16, 4), (20, 5)):
@@ -415,8 +414,8 @@ def test_column_generation_solves_no_master_lp_past_the_limit(monkeypatch):
     runs = []
     master = search._master
 
-    def counted_master(columns, node):
-        h = master(columns, node)
+    def counted_master(columns):
+        h = master(columns)
         run = h.run
         h.run = lambda: runs.append(1) or run()
         return h
@@ -566,42 +565,3 @@ def test_a_makespan_bisection_cut_short_resumes_after_the_decisions(monkeypatch)
     assert len(stopped) == 2 and stopped[1] - began == pytest.approx(4.0, abs=0.5)  # and the rest
     assert full > 1.01 * lower  # the bisection has something to gain here
     assert result.bound >= full * (1 - 1e-3)
-
-
-def test_entries_count_the_arcs_into_a_set():
-    """Hand-worked: set {2, 3} of 4 KPOIs; the route 2, 1, 3, 4 enters it from the start
-    and from 1 (twice), 1, 4 never, 4, 2, 3 once; the arc prizes sit on the arcs from
-    outside (the start, 1, 4) into 2 and 3 only; an entry flow of 1.4 splits into "at most
-    1" and "at least 2"."""
-    members = np.array([False, False, True, True, False])
-    row = Entries(members, True, 2)
-    assert [row.count(np.array(r)) for r in ([2, 1, 3, 4], [1, 4], [4, 2, 3])] == [2, 0, 1]
-    prize = row.arc_prize(0.5)
-    assert prize[0, 2] == prize[1, 3] == prize[4, 2] == 0.5
-    assert prize[2, 3] == prize[3, 1] == prize[1, 4] == prize[0, 1] == 0.0
-    at_most, at_least = entries_split(members, 1.4)
-    assert (at_most.at_least, at_most.rhs, at_least.at_least, at_least.rhs) == (False, 1, True, 2)
-
-
-@pytest.mark.parametrize(("n", "seed", "k", "tours"), [(14, 2, 3, False), (14, 5, 3, False), (12, 6, 4, True)])
-def test_branching_on_set_entries_reaches_setparts_optimum(monkeypatch, n, seed, k, tours):
-    """Clustered KPOIs (three rooms), enumeration off so that the tree branches (these
-    instances were picked because it does: most small ones close at the root): the search
-    branches on the routes entering a set, and ends at setpart's least makespan."""
-    chosen = []
-    choose = branchprice.BranchAndPrice.branching_set
-
-    def recording(search, node, outcome, target):
-        split = choose(search, node, outcome, target)
-        chosen.append(split is not None)
-        return split
-
-    monkeypatch.setattr(branchprice.BranchAndPrice, "branching_set", recording)
-    monkeypatch.setattr(branchprice, "ENUMERATION_ROUTES", (0, -1))
-    monkeypatch.setattr(branchprice, "SET_BRANCHING", True)
-    from parcover.generate import random_points
-    D = random_points(n, seed, layout="clustered").distances
-    ours = makespan_search.min_makespan(D, k, tours=tours, time_limit=120)
-    assert ours.status == "optimal"
-    assert ours.objective == pytest.approx(setpart.min_makespan(D, k, tours=tours).objective, rel=1e-9)
-    assert any(chosen)

@@ -307,34 +307,3 @@ def test_a_stop_request_ends_the_labelling_at_its_next_clock_check():
         took = time.perf_counter() - began
     assert not result.exact
     assert took < 5.0
-
-
-@pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
-@pytest.mark.parametrize("seed", range(8))
-def test_pricing_with_arc_prizes_matches_brute_force(seed, tours):
-    """Arc prizes of either sign (the duals of rows on the routes entering a set) join the
-    KPOI prizes: with full neighbourhoods the exact pricing's best is the brute-force best
-    elementary route under both, and the completion bounds (which add the largest
-    positive prize into each KPOI) prune none of it away."""
-    m = 6
-    D = euclidean(m, 200 + seed)
-    rng = np.random.default_rng(seed)
-    prize = np.concatenate(([0.0], rng.uniform(0.0, 0.6, m)))
-    arc_prize = rng.uniform(-0.3, 0.3, size=(m + 1, m + 1))
-    arc_prize[:, 0] = 0.0
-    budget = (2.0 if tours else 1.0) * D[0, 1:].max() * rng.uniform(1.0, 2.0)
-    allowed = ~np.eye(m + 1, dtype=bool)
-    can_end = np.ones(m + 1, dtype=bool)
-    can_end[0] = False
-    expected = {}
-    for order in brute_force(D, prize, budget, tours, allowed, can_end):
-        stops = [0, *order]
-        expected[order] = float(prize[list(order)].sum() + arc_prize[stops[:-1], stops[1:]].sum())
-    threshold = 0.5
-    best = max([threshold, *expected.values()])
-    found = Pricing(D, tours=tours, ng_size=m).price(prize, budget, allowed=allowed, can_end=can_end,
-                                                     exact=True, threshold=threshold, arc_prize=arc_prize)
-    assert found.exact and found.best == pytest.approx(best, abs=1e-12)
-    assert found.prize_bound >= best - 1e-12
-    for r in found.routes:
-        assert expected[tuple(r.tolist())] > threshold
