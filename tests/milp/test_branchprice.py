@@ -128,7 +128,7 @@ def test_strong_branching_reaches_setparts_optimum(monkeypatch):
 
     def recording(search, node, outcome, target):
         arc = choose(search, node, outcome, target)
-        picked.append(arc in search.fractional_arcs(outcome)[:candidates])
+        picked.append(arc in search.fractional_arcs(node, outcome)[:candidates])
         outcome.master.run()
         restored.append(outcome.master.getInfo().objective_function_value - outcome.value)
         return arc
@@ -178,10 +178,27 @@ def test_pricing_duals_are_smoothed_first_and_the_true_duals_priced_last():
 
 def test_crossing_routes_have_no_arc_to_branch_on_but_their_columns_cover():
     search, outcome = crossing_routes()
-    assert search.fractional_arcs(outcome) == []
+    assert search.fractional_arcs(Node.root(5), outcome) == []
     routes = search.support_covering(outcome)
     assert routes is not None and len(routes) == 2
     assert sorted(k for r in routes for k in r) == [1, 2, 3, 4, 5]
+
+
+def test_an_arc_fractional_only_by_covering_twice_is_not_branched_on():
+    """Paths over KPOIs 1, 2, 3 with the master at 1 on [1, 2] and 1/2 on [1, 3] and [3]
+    (KPOI 1 covered 1.5 times). Worked by hand: the first arc (0, 1) carries 1.5, but
+    every route through 1 enters it from the start, so imposing it bans nothing; (0, 3)
+    and (1, 3) carry 1/2 and each child of either bans a positive column ([3] or [1, 3];
+    imposing (1, 3) also bans [1, 2]). The end arc (3, 0) carries 1 and is not listed for
+    (0, 3), as it was when a path's arc was taken for an edge of a tour."""
+    points = np.array([[0, 0], [1, 0], [2, 0], [1, 1]], dtype=float)
+    D = np.linalg.norm(points[:, None] - points[None, :], axis=2)
+    search = branchprice.BranchAndPrice(D, tours=False, ends_at=None)
+    routes = ([1, 2], [1, 3], [3])
+    search.pool.add([np.array(r) for r in routes])  # [3] is in the pool already (one column per KPOI)
+    columns = [[o.tolist() for o in search.pool.orders].index(r) for r in routes]
+    outcome = branchprice.LpOutcome(2.0, 2.0, columns, np.array([1.0, 0.5, 0.5]), tree.Why.SOLVED)
+    assert search.fractional_arcs(Node.root(3), outcome) == [(0, 3), (1, 3)]
 
 
 def test_a_node_without_an_arc_to_branch_on_is_answered_by_its_columns(monkeypatch):
@@ -470,32 +487,34 @@ def test_cut_coefficients_are_valid_for_every_partition(seed):
     assert alpha.sum() <= 1
 
 
+@pytest.mark.parametrize("limited", [False, True], ids=["full-memory", "limited-memory"])
+@pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
 @pytest.mark.parametrize("seed", range(4))
-def test_pricing_with_cuts_is_the_elementary_optimum(seed):
-    """With full ng-memory and two cuts (full memory), the exact pricing must find the
-    brute-force best of prize minus penalty[t] x floor(|r & S_t| / 2)."""
+def test_pricing_with_cuts_is_the_elementary_optimum(seed, tours, limited):
+    """With full ng-memory and two cuts, the exact pricing must find the brute-force best
+    of prize minus penalty[t] x the cut's count on the route (:func:`ngroute.cut_coefficients`:
+    floor(|r & S_t| / 2) with full cut memory). The best route is often found by joining a
+    forward and a backward label, whose parities meet in the middle."""
     m = 6
     D = euclidean(m, 30 + seed)
     rng = np.random.default_rng(seed)
     prize = np.concatenate(([0.0], rng.uniform(0.0, 1.0, m)))
     triples = [(1, 2, 3), (2, 4, 6)]
-    cuts, mems = cut_masks(m, triples, [set(range(1, m + 1))] * 2)
+    memories = [set(rng.choice(np.arange(1, m + 1), 2, replace=False).tolist()) if limited else set(range(1, m + 1))
+                for _ in triples]
+    cuts, mems = cut_masks(m, triples, memories)
     penalties = np.zeros(MAX_CUTS)
     penalties[:2] = rng.uniform(0.0, 0.8, 2)
-    budget = 2.0 * D[0, 1:].max()
+    budget = (2.0 if tours else 1.0) * D[0, 1:].max() * rng.uniform(1.2, 2.0)
     allowed, can_end = open_arcs(m)
-    found = Pricing(D, tours=False, ng_size=m).price(
+    found = Pricing(D, tours=tours, ng_size=m).price(
         prize, budget, allowed=allowed, can_end=can_end, exact=True, threshold=0.0,
         cut_bits=cuts, cut_memory=mems, penalties=penalties)
-    best = 0.0
-    for size in range(1, m + 1):
-        for order in itertools.permutations(range(1, m + 1), size):
-            stops = [0, *order]
-            if D[stops[:-1], stops[1:]].sum() <= budget:
-                value = prize[list(order)].sum() - sum(
-                    p * (len(set(order) & set(t)) // 2) for p, t in zip(penalties, triples))
-                best = max(best, float(value))
-    assert found.exact and found.best == pytest.approx(best, abs=1e-9)
+    orders = [np.array(order) for size in range(1, m + 1) for order in itertools.permutations(range(1, m + 1), size)
+              if route_cost(D, list(order), tours=tours) <= budget]
+    counts = ngroute.cut_coefficients(orders, cuts, mems, 2)
+    values = [prize[order].sum() - penalties[:2] @ counts[:, r] for r, order in enumerate(orders)]
+    assert found.exact and found.best == pytest.approx(max(values), abs=1e-9)
 
 
 @pytest.mark.parametrize("tours", [False, True], ids=["paths", "tours"])
