@@ -196,15 +196,15 @@ def test_a_stopped_exact_pricing_certifies_its_last_complete_labelling(monkeypat
     x = np.array([0.0, 1.0, 2.0, 4.0, 8.0])
     D = np.abs(x[:, None] - x[None])
     prize = np.array([0.0, 0.6, 0.6, 0.0, 0.0])
-    label, bests = ngroute._label, []
+    label, bests = Pricing._label_both_ways, []
 
     def second_stopped(*args):
-        best, ends, parents, nodes, work, complete = label(*args)
+        best, routes, work, complete = label(*args)
         bests.append(best)
-        return best, ends, parents, nodes, work, complete and len(bests) == 1
+        return best, routes, work, complete and len(bests) == 1
 
     monkeypatch.setattr(ngroute, "MAX_GRID", 0)
-    monkeypatch.setattr(ngroute, "_label", second_stopped)
+    monkeypatch.setattr(Pricing, "_label_both_ways", second_stopped)
     result = Pricing(D, tours=False, ng_size=2).price(prize, 3.5, allowed=np.ones((5, 5), bool),
                                                       can_end=np.ones(5, bool), exact=True)
     assert bests == pytest.approx([1.8, 1.2])
@@ -223,14 +223,14 @@ def test_an_exact_pricing_tells_each_complete_labellings_certificate(monkeypatch
     result = Pricing(D, tours=False, ng_size=2).price(prize, 3.5, allowed=np.ones((5, 5), bool),
                                                       can_end=np.ones(5, bool), exact=True, on_prize_bound=told.append)
     assert result.exact and told == pytest.approx([1.8, 1.2])
-    label, labellings = ngroute._label, []
+    label, labellings = Pricing._label_both_ways, []
 
     def second_stopped(*args):
-        best, ends, parents, nodes, work, complete = label(*args)
+        best, routes, work, complete = label(*args)
         labellings.append(best)
-        return best, ends, parents, nodes, work, complete and len(labellings) == 1
+        return best, routes, work, complete and len(labellings) == 1
 
-    monkeypatch.setattr(ngroute, "_label", second_stopped)
+    monkeypatch.setattr(Pricing, "_label_both_ways", second_stopped)
     told.clear()
     Pricing(D, tours=False, ng_size=2).price(prize, 3.5, allowed=np.ones((5, 5), bool), can_end=np.ones(5, bool),
                                              exact=True, on_prize_bound=told.append)
@@ -279,7 +279,7 @@ def test_pricing_matches_brute_force_under_branching(seed, tours):
     for found in (exact, heuristic):
         values = [expected[tuple(r.tolist())] for r in found.routes]  # KeyError: not a brute-force route
         assert all(v > threshold for v in values)
-        assert values == sorted(values, reverse=True)
+        assert all(a >= b - 1e-12 for a, b in zip(values, values[1:]))  # joins sum in another order
     if best > threshold:
         assert expected[tuple(exact.routes[0].tolist())] == pytest.approx(best, abs=1e-12)
 
