@@ -47,10 +47,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import objmode
 
 from milp.core.jit import compiled_layout, njit
-from milp.branchprice.ngroute import BUDGET_ROUND, WORD, completion_table, enlarged, grid_step, read_clock
+from milp.branchprice.ngroute import BUDGET_ROUND, WORD, clock_passed, completion_table, enlarged, grid_step, read_clock
 
 __all__ = ["Family", "routes_within_gap", "KERNELS", "EXTENSIONS_PER_CLOCK"]
 
@@ -267,9 +266,7 @@ def _extension_lengths(family, lengths, m1, ends_at):  # pragma: no cover - comp
     row = np.empty(family.shape[1], np.uint64)
     for s in range(n):
         if s % 4096 == 0:
-            with objmode(now="float64"):
-                now = read_clock()
-            if now >= ends_at:
+            if clock_passed(ends_at):
                 return extended, False
         for v in range(1, m1):
             w, flag = v // WORD, np.uint64(1) << np.uint64(v % WORD)
@@ -338,9 +335,7 @@ def _extend(sets, last, length, gained, D, back, prize, allowed, budget, thresho
         tried += m1
         if tried >= EXTENSIONS_PER_CLOCK:
             tried = 0
-            with objmode(now="float64"):
-                now = read_clock()
-            if now >= ends_at:
+            if clock_passed(ends_at):
                 return out_parent[:count], out_last[:count], out_length[:count], out_gained[:count], False
         for j in range(1, m1):
             if sets[s, j // WORD] & (np.uint64(1) << np.uint64(j % WORD)) or not allowed[i, j]:

@@ -512,6 +512,15 @@ def read_clock() -> float:
 
 
 @njit(cache=True)
+def clock_passed(ends_at):  # pragma: no cover - compiled
+    """Whether :func:`read_clock` has reached ``ends_at``: the one clock check the compiled
+    loops make (every :data:`CLOCK_EVERY` steps or so)."""
+    with objmode(now="float64"):
+        now = read_clock()
+    return now >= ends_at
+
+
+@njit(cache=True)
 def completion_table(dd, back, prize, allowed, can_end, G, ends_at):  # pragma: no cover - compiled
     """``g(b, j)`` of the module docstring for ``b = 0..G`` (``-inf``: cannot end), over
     walks without 2-cycles, or None when the clock passes ``ends_at`` first (read every
@@ -530,9 +539,7 @@ def completion_table(dd, back, prize, allowed, can_end, G, ends_at):  # pragma: 
         work += m1 * m1
         if work >= CLOCK_EVERY:
             work = 0
-            with objmode(now="float64"):
-                now = read_clock()
-            if now >= ends_at:
+            if clock_passed(ends_at):
                 return None
         for j in range(1, m1):
             best = 0.0 if (can_end[j] and back[j] <= b) else -np.inf
@@ -782,9 +789,7 @@ def _label(arcs, prizes, budget, threshold, exact, ends_at):  # pragma: no cover
     while hsize > 0:
         if work >= clock:
             clock = work + CLOCK_EVERY
-            with objmode(now="float64"):
-                now = read_clock()
-            if now >= ends_at:
+            if clock_passed(ends_at):
                 complete = False
                 break
         lab, hsize = _heap_pop(hkey, hval, hsize)
@@ -925,9 +930,7 @@ def _join(forward, backward, D, allowed, U, floor, keep, penalties, ends_at):  #
             continue
         if work >= clock:
             clock = work + CLOCK_EVERY
-            with objmode(now="float64"):
-                now = read_clock()
-            if now >= ends_at:
+            if clock_passed(ends_at):
                 complete = False
                 break
         lf, vf = flength[f], fvalue[f]
@@ -1026,6 +1029,5 @@ def enlarged(a, size):  # pragma: no cover - compiled
 #: The compiled functions only :func:`cut_coefficients` calls: a search without cuts never compiles them.
 CUT_KERNELS = (_cut_counts,)
 #: Every compiled (numba) function of this module, for :mod:`milp.branchprice.compiling` to check and compile.
-KERNELS = (completion_table, _subset, _completion, _penalty, _dominated_on_arrival, _insert, _heap_push, _heap_pop, _label,
-           _join, enlarged,
-           *CUT_KERNELS)
+KERNELS = (clock_passed, completion_table, _subset, _completion, _penalty, _dominated_on_arrival, _insert, _heap_push,
+           _heap_pop, _label, _join, enlarged, *CUT_KERNELS)
