@@ -32,6 +32,11 @@ exact only when the heuristic finds nothing, and the duals are smoothed towards 
 certificate so far (Wentges 1997, Int. Trans. Oper. Res. 4), and before any certificate
 exists towards their own moving average (Neame's smoothing, :data:`NEAME_SMOOTHING`); a
 smoothed round that prices out nothing for the true duals is repeated with the true duals.
+A master with no solution (a KPOI no column at the node covers, or the subset-row cuts of
+an ancestor against the columns the branching left) goes through phase one first: the
+duals of the LP with an artificial column per KPOI price in the routes it lacks (Farkas
+pricing), and when an exact pricing finds none the node's LP has no solution and it closes
+(:meth:`BranchAndPrice._phase_one`).
 A heuristic pricing certifies a (weaker) bound too: the pricing's completion table bounds
 every elementary route's prize (:func:`milp.branchprice.ngroute.walk_bound`), and Farley's
 bound with that maximum is valid (:data:`PRIZE_BOUND_CERTIFICATES`; so is an exact pricing's
@@ -189,6 +194,11 @@ LP_SOLVED = 1e-7
 #: cost below ``-PRICES_OUT``): a route that prices out by round-off would be added again
 #: and again.
 PRICES_OUT = 1e-9
+#: The phase-one LP's value at which the master counts as feasible (HiGHS' primal
+#: feasibility tolerance, 1e-7, is on each row; this is their sum's scale)
+PHASE_ONE_FEASIBLE = 1e-6
+#: Statuses of a master with no solution (presolve may not tell which of the two)
+INFEASIBLE = (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnboundedOrInfeasible)
 #: Strong branching counts a child's gain as at least this, so that the product of the two
 #: gains still ranks the arcs when one child does not raise the LP value.
 LEAST_GAIN = 1e-6
@@ -349,17 +359,29 @@ class BranchAndPrice:
                                   cut_bits=cut_bits, cut_memory=cut_memory, penalties=penalties,
                                   on_prize_bound=on_prize_bound)
 
-    def _master(self, columns: list[int]) -> highspy.Highs:
-        """The LP (1)-(2) over ``columns`` of the pool, with the subset-row cuts (5)."""
+    def _master(self, columns: list[int], *, phase_one: bool = False) -> highspy.Highs:
+        """The LP (1)-(2) over ``columns`` of the pool, with the subset-row cuts (5). With
+        ``phase_one``, the LP of phase one instead: the columns cost 0, and each KPOI
+        has an artificial column of cost 1 that covers it, so the LP is feasible and its
+        value is 0 exactly when the master is."""
         h = new_highs(None)
-        cuts = len(self.cuts)
-        lp = make_lp(np.ones(len(columns)), (np.zeros(len(columns)), np.full(len(columns), np.inf)),
-                     self._matrix(columns),
-                     (np.concatenate((np.ones(self.m), np.full(cuts, -np.inf))),
-                      np.concatenate((np.full(self.m, np.inf), np.ones(cuts)))),
-                     np.zeros(len(columns), dtype=bool))
+        rows, n = self.m + len(self.cuts), len(columns)
+        matrix, cost = self._matrix(columns), np.ones(n)
+        if phase_one:
+            matrix = sparse.hstack([matrix, sparse.eye(rows, self.m)]).tocsc()
+            cost = np.concatenate((np.zeros(n), np.ones(self.m)))
+        lp = make_lp(cost, (np.zeros(len(cost)), np.full(len(cost), np.inf)), matrix,
+                     (np.concatenate((np.ones(self.m), np.full(len(self.cuts), -np.inf))),
+                      np.concatenate((np.full(self.m, np.inf), np.ones(len(self.cuts))))),
+                     np.zeros(len(cost), dtype=bool))
         h.passModel(lp)
         return h
+
+    def _duals(self, h: highspy.Highs) -> np.ndarray:
+        """``(pi, sigma) >= 0`` of a solved master ``h``: the covering duals, and the cut
+        duals with their sign turned."""
+        row_dual = np.asarray(h.getSolution().row_dual, dtype=np.float64)
+        return np.concatenate((np.maximum(row_dual[:self.m], 0.0), np.maximum(-row_dual[self.m:], 0.0)))
 
     def _coverage(self, columns: list[int]) -> sparse.csc_matrix:
         """Visit counts ``a_ir`` of ``columns`` (rows KPOIs ``1..m``)."""
@@ -383,11 +405,6 @@ class BranchAndPrice:
         subset-row cuts and solved again while new violated cuts are found."""
         self.nodes += 1
         columns = self.pool.fitting(budget, node)
-        covered = self._cover_all(columns, budget, node)
-        if covered is not True:
-            why = Why.CLOSED if covered is False else Why.TIME_LIMIT
-            return LpOutcome(math.inf if covered is False else 0.0, math.inf, columns,
-                             np.zeros(0), why)
         outcome = LpOutcome(0.0, math.inf, columns, np.zeros(0), Why.STALLED)  # nothing solved yet
         while True:
             outcome = self._column_generation(node, budget, target, columns, outcome)
@@ -424,11 +441,16 @@ class BranchAndPrice:
 
         while True:
             h.run()
+            if h.getModelStatus() in INFEASIBLE:
+                stopped = self._phase_one(h, node, budget, columns)
+                if stopped == Why.CLOSED:
+                    return LpOutcome(math.inf, math.inf, columns, np.zeros(0), Why.CLOSED)
+                if stopped is not None:
+                    return LpOutcome(known.bound, known.value, columns, known.x, stopped, None, known.duals)
+                continue
             assert h.getModelStatus() == highspy.HighsModelStatus.kOptimal, "master LP not solved"
             value = float(h.getInfo().objective_function_value)
-            row_dual = np.asarray(h.getSolution().row_dual, dtype=np.float64)
-            # (pi, sigma) >= 0: covering duals, and cut duals with their sign turned
-            duals = np.concatenate((np.maximum(row_dual[:self.m], 0.0), np.maximum(-row_dual[self.m:], 0.0)))
+            duals = self._duals(h)
             x = np.asarray(h.getSolution().col_value, dtype=np.float64)
             if self.progress.due():
                 log.info("column generation, node %d: LP %.6g routes, bound %.6g, after %d pricing rounds "
@@ -555,25 +577,32 @@ class BranchAndPrice:
                 self.cut_bits[kpoi] |= bit
         return added > 0
 
-    def _cover_all(self, columns: list[int], budget: float, node: Node) -> bool | None:
-        """Price in columns for KPOIs no column of ``node`` covers (prize 1 on those).
-
-        True when every KPOI is covered, False when an exact pricing proves that no route
-        at ``node`` covers one of them, None when the pricing was cut short (time)."""
+    def _phase_one(self, h: highspy.Highs, node: Node, budget: float, columns: list[int]) -> Why | None:
+        """Make the infeasible master ``h`` feasible: phase one of column generation. Its
+        columns at ``node`` may cover no route to some KPOI, or cover them only against
+        the subset-row cuts (5) (cuts found at an ancestor, with the columns the
+        branching left). The duals ``(pi, sigma)`` of the phase-one LP (:meth:`_master`)
+        price in the routes whose prize under them is positive (Farkas pricing), added to
+        ``h``, until that LP's value is 0. None when ``h`` is feasible again; otherwise
+        why not: :attr:`Why.CLOSED` when an exact pricing finds no such route (by Farkas'
+        lemma the node's LP has no solution), :attr:`Why.TIME_LIMIT` when the pricing
+        was cut short, :attr:`Why.STALLED` when it found only routes already held."""
+        added = 0
         while True:
-            covered = np.zeros(self.m, dtype=bool)
-            for c in columns:
-                covered[self.pool.orders[c] - 1] = True
-            if covered.all():
-                return True
-            prize = np.concatenate(([0.0], (~covered).astype(np.float64)))
-            res = self.price(prize, budget, node, exact=True, threshold=0.5)
-            if not res.routes:
-                return False if res.exact else None
-            fresh = self.pool.fitting(budget, node, self.pool.add(res.routes))
-            if not fresh:
-                return None
-            columns.extend(fresh)
+            phase = self._master(columns, phase_one=True)
+            phase.run()
+            assert phase.getModelStatus() == highspy.HighsModelStatus.kOptimal, "phase-one LP not solved"
+            if phase.getInfo().objective_function_value <= PHASE_ONE_FEASIBLE:
+                return None if added else Why.STALLED  # stalled: feasible here, not in h
+            y = self._duals(phase)
+            res = self._price_duals(y, budget, node, exact=True, threshold=PRICES_OUT)
+            useful = [r for r in res.routes if self._route_value(r, y) > PRICES_OUT]
+            if not useful:
+                return Why.CLOSED if res.exact else Why.TIME_LIMIT
+            found = self._append(h, columns, useful, budget, node)
+            if not found:
+                return Why.STALLED
+            added += found
 
     def _duals_to_try(self, duals: np.ndarray, center: np.ndarray | None, moving: np.ndarray | None):
         """Heuristic then exact pricing, at smoothed duals first, then at the true duals

@@ -22,7 +22,7 @@ from milp_helpers import TOL, check_solution, euclidean, graph_metric
 from milp import setpart
 from milp.bounds import robots_lower_bound
 from milp.branchprice import colgen, ngroute, tree
-from milp.branchprice.columns import Node
+from milp.branchprice.columns import Node, Pool
 from milp.branchprice import makespan as makespan_search
 from milp.branchprice import search as branchprice
 from milp.branchprice.ngroute import MAX_CUTS, Pricing
@@ -431,8 +431,8 @@ def test_column_generation_solves_no_master_lp_past_the_limit(monkeypatch):
     runs = []
     master = search._master
 
-    def counted_master(columns):
-        h = master(columns)
+    def counted_master(columns, **kind):
+        h = master(columns, **kind)
         run = h.run
         h.run = lambda: runs.append(1) or run()
         return h
@@ -447,7 +447,6 @@ def test_column_generation_solves_no_master_lp_past_the_limit(monkeypatch):
     monkeypatch.setattr(search, "_master", counted_master)
     monkeypatch.setattr(search, "_append", append_then_stop)
     columns = search.pool.fitting(budget, root)
-    assert search._cover_all(columns, budget, root)
     nothing = branchprice.LpOutcome(0.0, math.inf, columns, np.zeros(0), branchprice.Why.STALLED)
     outcome = search._column_generation(root, budget, 3, columns, nothing)
     assert outcome.why == branchprice.Why.TIME_LIMIT
@@ -455,6 +454,63 @@ def test_column_generation_solves_no_master_lp_past_the_limit(monkeypatch):
     again = search._column_generation(root, budget, 3, columns, outcome)
     assert again.why == branchprice.Why.TIME_LIMIT and again.bound == outcome.bound
     assert len(runs) == 1
+
+
+#: Three KPOIs. Tours: the shortest of all three ([1, 3, 2]) 6.47, [1, 3] 6.47, [1, 2] 5.24,
+#: [1] 4.47, [2, 3] 4. Paths: [1, 2, 3] 5.24, [1, 2] 4.24, [2, 3] 2.
+PHASE_ONE_POINTS = np.array([[0, 0], [2, 1], [0, 1], [0, 2]], dtype=float)
+
+
+def search_with_cut(tours: bool) -> tuple[branchprice.BranchAndPrice, list[int]]:
+    """A search on :data:`PHASE_ONE_POINTS` holding the subset-row cut on (1, 2, 3), and
+    a pool of the routes [1, 2] and [2, 3] alone (their columns): each visits two of the
+    triple, so with the cut (at most one such route) they cannot cover the three KPOIs:
+    the master is infeasible."""
+    D = np.linalg.norm(PHASE_ONE_POINTS[:, None] - PHASE_ONE_POINTS[None], axis=2)
+    search = branchprice.BranchAndPrice(D, tours=tours, ends_at=None)
+    search.cuts = [(1, 2, 3)]
+    search.cut_bits, search.cut_memory = cut_masks(3, search.cuts, [set()])
+    search.pool = Pool(D, tours=tours)
+    return search, list(search.pool.add([np.array([1, 2]), np.array([2, 3])]))
+
+
+def test_phase_one_prices_in_the_columns_an_infeasible_master_needs():
+    """Cuts found at an ancestor, with the columns a branching left, can make a child's
+    master infeasible (100 uniform KPOIs, seed 38, tours: an AssertionError). Phase one
+    prices in the missing columns, and column generation then reaches the LP value over
+    every route within the budget, 6: 2 by hand (no route within it visits both 1 and
+    3), and by scipy's LP over all routes listed."""
+    from scipy.optimize import linprog
+
+    search, columns = search_with_cut(tours=True)
+    budget, root = 6.0, Node.root(3)
+    master = search._master(columns)
+    master.run()
+    assert master.getModelStatus() in branchprice.INFEASIBLE
+    nothing = branchprice.LpOutcome(0.0, math.inf, columns, np.zeros(0), branchprice.Why.STALLED)
+    outcome = search._column_generation(root, budget, math.inf, columns, nothing, converge=True)
+    routes = [list(p) for r in (1, 2, 3) for p in itertools.permutations((1, 2, 3), r)
+              if route_cost(search.pool.D, list(p), tours=True) <= budget]
+    coverage = np.array([[j in route for route in routes] for j in (1, 2, 3)], dtype=float)
+    cut = np.array([[len(route) // 2 for route in routes]], dtype=float)
+    listed = linprog(np.ones(len(routes)), A_ub=np.vstack([-coverage, cut]), b_ub=[-1, -1, -1, 1])
+    assert listed.status == 0 and listed.fun == pytest.approx(2.0)
+    assert outcome.why == branchprice.Why.SOLVED and outcome.value == pytest.approx(listed.fun)
+
+
+def test_phase_one_closes_a_node_whose_lp_has_no_solution():
+    """Paths at a node that lets KPOI 1 only start a route and go on to 2, and KPOI 3
+    only follow 2: within 4.5 the routes holding 1 or 3 are [1, 2] and [2, 3] ([1, 2, 3]
+    costs 5.24), which the cut on (1, 2, 3) lets the LP take once in all. No LP solution
+    (Farkas): the node closes."""
+    search, _ = search_with_cut(tours=False)
+    allowed = Node.root(3).allowed.copy()
+    allowed[1, 0] = allowed[1, 3] = allowed[3, 1] = allowed[2, 1] = allowed[0, 3] = False
+    node = Node(allowed, depth=1)
+    outcome = search.solve_node(node, 4.5, math.inf)
+    assert outcome.why == branchprice.Why.CLOSED and outcome.bound == math.inf
+    opened = Node.root(3)  # without the branching, [1] and [3] alone fit: the LP is feasible
+    assert search.solve_node(opened, 4.5, math.inf).why == branchprice.Why.SOLVED
 
 
 def cut_masks(m: int, triples: list[tuple[int, ...]], memories: list[set[int]]) -> tuple[np.ndarray, np.ndarray]:
