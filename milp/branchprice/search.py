@@ -441,7 +441,7 @@ class BranchAndPrice:
 
         while True:
             h.run()
-            if h.getModelStatus() in INFEASIBLE:
+            if not columns or h.getModelStatus() in INFEASIBLE:  # no columns: HiGHS says "empty"
                 stopped = self._phase_one(h, node, budget, columns)
                 if stopped == Why.CLOSED:
                     return LpOutcome(math.inf, math.inf, columns, np.zeros(0), Why.CLOSED)
@@ -579,7 +579,7 @@ class BranchAndPrice:
 
     def _phase_one(self, h: highspy.Highs, node: Node, budget: float, columns: list[int]) -> Why | None:
         """Make the infeasible master ``h`` feasible: phase one of column generation. Its
-        columns at ``node`` may cover no route to some KPOI, or cover them only against
+        columns at ``node`` (there may be none) may leave a KPOI uncovered, or cover them only against
         the subset-row cuts (5) (cuts found at an ancestor, with the columns the
         branching left). The duals ``(pi, sigma)`` of the phase-one LP (:meth:`_master`)
         price in the routes whose prize under them is positive (Farkas pricing), added to

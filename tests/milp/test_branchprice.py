@@ -513,6 +513,19 @@ def test_phase_one_closes_a_node_whose_lp_has_no_solution():
     assert search.solve_node(opened, 4.5, math.inf).why == branchprice.Why.SOLVED
 
 
+def test_phase_one_starts_from_no_column():
+    """A node where no pooled column fits (a pool of the tour [1, 3, 2] alone, 6.47):
+    within 5 the LP value is 2 by hand (1 fits only alone, [1] 4.47; [2, 3] 4), within 3
+    no tour reaches KPOI 1 and the node closes."""
+    search, _ = search_with_cut(tours=True)
+    search.pool = Pool(search.pool.D, tours=True)
+    search.pool.add([np.array([1, 3, 2])])
+    solved = search.solve_node(Node.root(3), 5.0, math.inf)
+    assert solved.why == branchprice.Why.SOLVED and solved.value == pytest.approx(2.0)
+    closed = search.solve_node(Node.root(3), 3.0, math.inf)
+    assert closed.why == branchprice.Why.CLOSED and closed.bound == math.inf
+
+
 def cut_masks(m: int, triples: list[tuple[int, ...]], memories: list[set[int]]) -> tuple[np.ndarray, np.ndarray]:
     """Bit masks of cut triples and memories per KPOI (bit t for cut t)."""
     cuts, mems = np.zeros(m + 1, dtype=np.uint64), np.zeros(m + 1, dtype=np.uint64)
