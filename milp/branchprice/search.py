@@ -197,8 +197,10 @@ PRICES_OUT = 1e-9
 #: The phase-one LP's value at which the master counts as feasible (HiGHS' primal
 #: feasibility tolerance, 1e-7, is on each row; this is their sum's scale)
 PHASE_ONE_FEASIBLE = 1e-6
-#: Statuses of a master with no solution (presolve may not tell which of the two)
-INFEASIBLE = (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnboundedOrInfeasible)
+#: Statuses of a master with no solution: infeasible (presolve may not tell it from
+#: unbounded), or "empty" when no column fits the node (its rows still ask for a cover)
+INFEASIBLE = (highspy.HighsModelStatus.kInfeasible, highspy.HighsModelStatus.kUnboundedOrInfeasible,
+              highspy.HighsModelStatus.kModelEmpty)
 #: Strong branching counts a child's gain as at least this, so that the product of the two
 #: gains still ranks the arcs when one child does not raise the LP value.
 LEAST_GAIN = 1e-6
@@ -441,7 +443,7 @@ class BranchAndPrice:
 
         while True:
             h.run()
-            if not columns or h.getModelStatus() in INFEASIBLE:  # no columns: HiGHS says "empty"
+            if h.getModelStatus() in INFEASIBLE:
                 stopped = self._phase_one(h, node, budget, columns)
                 if stopped == Why.CLOSED:
                     return LpOutcome(math.inf, math.inf, columns, np.zeros(0), Why.CLOSED)

@@ -461,17 +461,18 @@ def test_column_generation_solves_no_master_lp_past_the_limit(monkeypatch):
 PHASE_ONE_POINTS = np.array([[0, 0], [2, 1], [0, 1], [0, 2]], dtype=float)
 
 
-def search_with_cut(tours: bool) -> tuple[branchprice.BranchAndPrice, list[int]]:
+def search_with_cut(tours: bool, pooled: tuple[list[int], ...] = ([1, 2], [2, 3])
+                    ) -> tuple[branchprice.BranchAndPrice, list[int]]:
     """A search on :data:`PHASE_ONE_POINTS` holding the subset-row cut on (1, 2, 3), and
-    a pool of the routes [1, 2] and [2, 3] alone (their columns): each visits two of the
-    triple, so with the cut (at most one such route) they cannot cover the three KPOIs:
-    the master is infeasible."""
+    a pool of the ``pooled`` routes alone (their columns). By default [1, 2] and [2, 3]:
+    each visits two of the triple, so with the cut (at most one such route) they cannot
+    cover the three KPOIs: the master is infeasible."""
     D = np.linalg.norm(PHASE_ONE_POINTS[:, None] - PHASE_ONE_POINTS[None], axis=2)
     search = branchprice.BranchAndPrice(D, tours=tours, ends_at=None)
     search.cuts = [(1, 2, 3)]
     search.cut_bits, search.cut_memory = cut_masks(3, search.cuts, [set()])
     search.pool = Pool(D, tours=tours)
-    return search, list(search.pool.add([np.array([1, 2]), np.array([2, 3])]))
+    return search, list(search.pool.add([np.array(route) for route in pooled]))
 
 
 def test_phase_one_prices_in_the_columns_an_infeasible_master_needs():
@@ -517,9 +518,7 @@ def test_phase_one_starts_from_no_column():
     """A node where no pooled column fits (a pool of the tour [1, 3, 2] alone, 6.47):
     within 5 the LP value is 2 by hand (1 fits only alone, [1] 4.47; [2, 3] 4), within 3
     no tour reaches KPOI 1 and the node closes."""
-    search, _ = search_with_cut(tours=True)
-    search.pool = Pool(search.pool.D, tours=True)
-    search.pool.add([np.array([1, 3, 2])])
+    search, _ = search_with_cut(tours=True, pooled=([1, 3, 2],))
     solved = search.solve_node(Node.root(3), 5.0, math.inf)
     assert solved.why == branchprice.Why.SOLVED and solved.value == pytest.approx(2.0)
     closed = search.solve_node(Node.root(3), 3.0, math.inf)
