@@ -194,10 +194,11 @@ def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, 
     """The least makespan: :func:`milp.branchprice.min_makespan` in this process for the
     whole time limit, and, unless it has proved the answer within
     :data:`BRANCHPRICE_FIRST` seconds, a rival in another process for the time left
-    (:func:`milp.race.race_here`): ``best``'s local search from the same warm start
-    (:func:`parcover.algorithms.local_search.race_entrant`), which branch-and-price's
-    tree seldom improves on, handing each better routes to branch-and-price as it finds
-    them (its decisions then go on below them); for at most :data:`RACE_ROUTES` robots and
+    (:func:`milp.race.race_here`): ``best``'s local search from the same warm start, then
+    PyVRP's searches for shorter routes
+    (:func:`parcover.algorithms.local_search.race_entrant`), which branch-and-price's tree
+    seldom improves on, handing each better routes to branch-and-price as it finds them
+    (its decisions then go on below them); for at most :data:`RACE_ROUTES` robots and
     :data:`RACE_MAX_KPOIS` KPOIs ``branchcut`` instead, after the local search for a share
     of the time from :data:`SEARCH_FIRST_ROUTES` robots
     (:func:`parcover.algorithms.local_search.searched_branchcut`). The first proof stops
@@ -233,7 +234,7 @@ def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, 
         solution.info["message"] = "; ".join(f"{n}: {a.message}" for n, a in answers.items())
     if name == "best":  # its own proof is the trivial bound; else the bound is branch-and-price's
         solution.info["model"] = "bounds" if solution.status == Status.OPTIMAL else RACE_MODELS[0]
-        solution.info["message"] = f"routes by best's local search ({solution.info['message']})"
+        solution.info["message"] = f"routes by best's local search and PyVRP ({solution.info['message']})"
     return solution
 
 

@@ -230,7 +230,7 @@ def test_exact_races_best_where_branch_and_cut_does_not_reach(monkeypatch):
     monkeypatch.setattr(branchprice, "min_makespan", nothing_proven)
     instance = generate.random_points(25, 8)
     result = solve(instance, "tours", robots=5, time_limit=8)
-    assert asked and result.routes and "routes by best's local search" in result.info["message"]
+    assert asked and result.routes and "routes by best's local search and PyVRP" in result.info["message"]
     assert result.model in ("branchprice", "bounds")
     assert result.value <= makespan(instance.distances, asked[0], tours=True) * (1 + 1e-9)
     assert 2 * instance.c_max <= result.bound <= result.value

@@ -231,27 +231,36 @@ def fewer_robots(
 
 def race_entrant(D: np.ndarray, k: int, *, tours: bool, warm_start: list[list[int]] | None = None,
                  seed: int = 0, time_limit: float | None = None, routes_file: str | None = None) -> MilpResult:
-    """:func:`improve` as an entrant of :func:`milp.race.race_here` beside branch-and-price's
-    least makespan with ``k`` routes on the distance matrix ``D`` (index 0 the start): from
-    ``warm_start`` (branch-and-price's start; else :func:`best_construction`) with its own
-    ``seed``, until the time limit or the trivial lower bound. ``"optimal"`` when its routes
+    """:func:`improve` and then PyVRP as an entrant of :func:`milp.race.race_here` beside
+    branch-and-price's least makespan with ``k`` routes on the distance matrix ``D`` (index
+    0 the start): from ``warm_start`` (branch-and-price's start; else
+    :func:`best_construction`) with its own ``seed``, the annealing until it has converged
+    (:func:`patience`; :data:`DEFAULT_ITERATIONS` rounds without a time limit), then
+    :func:`parcover.algorithms.fleet.shorter_routes` from its routes, until the time limit
+    or the trivial lower bound. On the Necula cells and building-scale makespan cells the
+    annealing until the limit ended where it had converged, and PyVRP's searches reached
+    those routes sooner, or shorter ones (``milp/README.md``). ``"optimal"`` when its routes
     meet that bound, else ``"feasible"`` with it; the race keeps the better routes and the
     larger bound. With ``routes_file``, each better routes are handed over there as they are
     found (:func:`milp.race.hand_over`): branch-and-price's makespan decisions take them
     (:func:`milp.branchprice.min_makespan`'s ``elsewhere``)."""
+    from parcover.algorithms.fleet import shorter_routes  # PyVRP and numba: only when needed
+
     began = time.perf_counter()
     stop = None if time_limit is None else began + time_limit
     instance, problem = Instance.from_matrix(D), Problem("tours" if tours else "paths", robots=k)
     bound = lower_bound(instance, problem, seconds=None if time_limit is None else _BOUND_SHARE * time_limit)
     start = warm_start or best_construction(instance, problem, time_limit=time_limit, seed=seed)[1]
+    hand = None if routes_file is None else lambda found: hand_over(routes_file, found)
     routes, _ = improve(instance, problem, start, seed=seed, iterations=None if stop else DEFAULT_ITERATIONS,
-                        stop=stop, target=bound,
-                        found=None if routes_file is None else lambda found: hand_over(routes_file, found))
+                        stop=stop, target=bound, patience=patience(instance.n) if stop else None, found=hand)
+    routes = shorter_routes(D, k, routes, tours=tours, seed=seed, stop=stop, target=bound, found=hand)
     value = makespan(D, routes, tours=tours)
     proven = within(value, bound)
     return MilpResult("optimal" if proven else "feasible", routes=routes, objective=value, bound=bound,
                       seconds=time.perf_counter() - began,
-                      message="best's routes meet the trivial lower bound" if proven else "best's routes at the time limit")
+                      message="best's and PyVRP's routes meet the trivial lower bound" if proven
+                      else "best's and PyVRP's routes at the time limit")
 
 
 def searched_branchcut(D: np.ndarray, k: int, *, tours: bool, warm_start: list[list[int]] | None = None,

@@ -14,13 +14,51 @@ from milp.core.result import MilpResult
 from milp.core.routes import least_makespan, route_cost, within
 from milp.core.timelimit import TimeLimit, stop_requested
 from parcover import generate
-from parcover.algorithms.fleet import fewest_routes, race_entrant
+from parcover.algorithms import fleet
+from parcover.algorithms.fleet import fewest_routes, race_entrant, shorter_routes
 from parcover.problem import Problem
 from parcover.result import Status
 
 
 def _covers(routes: list[list[int]], n: int) -> bool:
     return sorted(k for route in routes for k in route) == list(range(1, n + 1))
+
+
+def _makespan(D: np.ndarray, routes: list[list[int]], tours: bool) -> float:
+    return max(route_cost(D, route, tours=tours) for route in routes)
+
+
+@pytest.mark.parametrize("tours", [False, True])
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_shorter_routes_descend_to_set_partitionings_least_makespan(seed, tours):
+    """From two routes in index order on 9 KPOIs, PyVRP's searches for shorter routes
+    reach setpart's proven least makespan (an independent exact method), given as the
+    target, and stop there; each routes told are valid and shorter than the last."""
+    D = generate.random_points(9, seed).distances
+    optimum = setpart.min_makespan(D, 2, tours=tours)
+    assert optimum.status == "optimal"
+    start = [[1, 2, 3, 4], [5, 6, 7, 8, 9]]
+    told: list[list[list[int]]] = []
+    routes = shorter_routes(D, 2, start, tours=tours, seed=seed, stop=time.perf_counter() + 10.0,
+                            target=optimum.objective, found=told.append)
+    values = [_makespan(D, r, tours) for r in told]
+    assert all(len(r) <= 2 and _covers(r, 9) for r in told)
+    assert values == sorted(set(values), reverse=True) and values[0] < _makespan(D, start, tours)
+    assert told[-1] == routes and _makespan(D, routes, tours) == pytest.approx(optimum.objective, rel=1e-9)
+
+
+def test_shorter_routes_end_after_searches_in_a_row_that_find_none(monkeypatch):
+    """Without a stop time, from routes already optimal (setpart's, not given as the target),
+    the searches find nothing shorter: they end after ``SHORTER_MISSES`` of them, returning
+    the routes given, and tell nothing."""
+    monkeypatch.setattr(fleet, "SHORTER_SECONDS", 0.3)
+    D = generate.random_points(8, 4).distances
+    optimum = setpart.min_makespan(D, 3, tours=False)
+    told: list = []
+    began = time.perf_counter()
+    routes = shorter_routes(D, 3, optimum.routes, tours=False, found=told.append)
+    assert routes == optimum.routes and not told
+    assert time.perf_counter() - began < fleet.SHORTER_MISSES * 0.3 + 3.0
 
 
 @pytest.mark.parametrize("tours", [False, True])
