@@ -46,7 +46,7 @@ import numpy as np
 
 from milp.branchprice import colgen
 from milp.core.result import MilpResult
-from milp.core.routes import ABS_TOL, REL_TOL, route_cost, within
+from milp.core.routes import ABS_TOL, REL_TOL, makespan, route_cost, within
 from milp.core.timelimit import stop_requested
 from milp.race import hand_over, handed_reader
 
@@ -135,7 +135,7 @@ def shorter_routes(D: np.ndarray, k: int, routes: list[list[int]], *, tours: boo
     ``target`` (a proven lower bound), or when asked to stop
     (:func:`milp.core.timelimit.stop_requested`). Returns the shortest routes met, never
     longer than ``routes``; ``found``, when given, is called with each as it is found."""
-    best, value, misses = routes, max(route_cost(D, r, tours=tours) for r in routes), 0
+    best, value, misses = routes, makespan(D, routes, tours=tours), 0
     while not (within(value, target) or stop_requested()):
         seconds = SHORTER_SECONDS if stop is None else min(SHORTER_SECONDS, stop - time.perf_counter())
         if seconds <= 0 or (stop is None and misses >= SHORTER_MISSES):
@@ -145,7 +145,7 @@ def shorter_routes(D: np.ndarray, k: int, routes: list[list[int]], *, tours: boo
         if shorter is None or len(shorter) > k:
             misses += 1
             continue
-        best, value, misses = shorter, max(route_cost(D, r, tours=tours) for r in shorter), 0
+        best, value, misses = shorter, makespan(D, shorter, tours=tours), 0
         if found is not None:
             found(best)
     return best

@@ -11,7 +11,7 @@ import pytest
 import parcover.exact as exact_module
 from milp import race, setpart
 from milp.core.result import MilpResult
-from milp.core.routes import least_makespan, route_cost, within
+from milp.core.routes import least_makespan, makespan, route_cost, within
 from milp.core.timelimit import TimeLimit, stop_requested
 from parcover import generate
 from parcover.algorithms import fleet
@@ -22,10 +22,6 @@ from parcover.result import Status
 
 def _covers(routes: list[list[int]], n: int) -> bool:
     return sorted(k for route in routes for k in route) == list(range(1, n + 1))
-
-
-def _makespan(D: np.ndarray, routes: list[list[int]], tours: bool) -> float:
-    return max(route_cost(D, route, tours=tours) for route in routes)
 
 
 @pytest.mark.parametrize("tours", [False, True])
@@ -41,10 +37,10 @@ def test_shorter_routes_descend_to_set_partitionings_least_makespan(seed, tours)
     told: list[list[list[int]]] = []
     routes = shorter_routes(D, 2, start, tours=tours, seed=seed, stop=time.perf_counter() + 10.0,
                             target=optimum.objective, found=told.append)
-    values = [_makespan(D, r, tours) for r in told]
+    values = [makespan(D, r, tours=tours) for r in told]
     assert all(len(r) <= 2 and _covers(r, 9) for r in told)
-    assert values == sorted(set(values), reverse=True) and values[0] < _makespan(D, start, tours)
-    assert told[-1] == routes and _makespan(D, routes, tours) == pytest.approx(optimum.objective, rel=1e-9)
+    assert values == sorted(set(values), reverse=True) and values[0] < makespan(D, start, tours=tours)
+    assert told[-1] == routes and makespan(D, routes, tours=tours) == pytest.approx(optimum.objective, rel=1e-9)
 
 
 def test_shorter_routes_end_after_searches_in_a_row_that_find_none(monkeypatch):
