@@ -16,8 +16,9 @@ independently. Six methods:
   for the least makespan with at most :data:`RACE_ROUTES` robots on 21 to
   :data:`RACE_MAX_KPOIS` KPOIs,
   ``branchprice`` in this process for the whole time, against ``branchcut`` in another
-  from :data:`BRANCHPRICE_FIRST` seconds on (from :data:`SEARCH_FIRST_ROUTES` robots
-  after ``best``'s local search), on two cores (:func:`_race_makespan`; the
+  from :data:`BRANCHPRICE_FIRST` seconds on (from :data:`SEARCH_FIRST_ROUTES` robots, or 2 from
+  :data:`SEARCH_FIRST_KPOIS` KPOIs, after ``best``'s and PyVRP's local search for a share
+  of the time), on two cores (:func:`_race_makespan`; the
   first proof stops the other; one core: ``branchprice`` alone), and above those sizes
   against ``best``'s local search in the same way; for the fewest robots
   above :data:`ROOT_FIRST_MAX` KPOIs, ``branchprice`` here against PyVRP's search for
@@ -117,12 +118,17 @@ BRANCHPRICE_FIRST = 2.0
 #: with 3 routes on random instances branch-and-price is 5-20x faster.
 RACE_ROUTES = 3
 RACE_MODELS = ("branchprice", "branchcut")
-#: From this many robots (up to :data:`RACE_ROUTES`) the race's branch-and-cut gives a share
-#: of its time to ``best``'s local search first: with 3 tours at 50 KPOIs it found shorter
-#: routes that branch-and-cut never did, while with 2 the warm start is near the optimum and
-#: branch-and-cut needs its time for the proof (Necula's eil76 with 2 tours, proven in
-#: 132-206 s, was unproven at 420 s behind the local search; milp/README.md).
-SEARCH_FIRST_ROUTES = 3
+#: The race's branch-and-cut gives a share of its time to ``best``'s and PyVRP's local
+#: search first (:func:`parcover.algorithms.local_search.searched_branchcut`) from this many
+#: robots, and with 2 from this many KPOIs (:func:`makespan_rival`). With 3 tours at 50 KPOIs the search found
+#: shorter routes that branch-and-cut never did. With 2 routes on 30-51 KPOIs (18 cells,
+#: random and Necula's) it ended at the same answers and delayed proofs by up to its
+#: share (n = 40 tours at 20 s unproven, proven in 18 s without; eil51 30.3 -> 40.9 s); on
+#: 69-99 KPOIs (st70, eil76, pr76, rat99, kroA100 with 2 tours) proofs came sooner (pr76
+#: 247.6 -> 114.0 s, eil76 343.8 -> 249.5 s), rat99's from a start 6% above the optimum,
+#: which branch-and-cut alone never improved, and kroA100's routes and bound were
+#: better at the limit (milp/README.md).
+SEARCH_FIRST_ROUTES, SEARCH_FIRST_KPOIS = 3, 60
 #: ``exact`` races up to this many KPOIs: branch-and-cut's size limit.
 RACE_MAX_KPOIS = BRANCHCUT_MAX_KPOIS
 
@@ -200,8 +206,8 @@ def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, 
     seldom improves on, handing each better routes to branch-and-price as it finds them
     (its decisions then go on below them); for at most :data:`RACE_ROUTES` robots and
     :data:`RACE_MAX_KPOIS` KPOIs ``branchcut`` instead, after the local search for a share
-    of the time from :data:`SEARCH_FIRST_ROUTES` robots
-    (:func:`parcover.algorithms.local_search.searched_branchcut`). The first proof stops
+    of the time from :data:`SEARCH_FIRST_ROUTES` robots, or 2 from :data:`SEARCH_FIRST_KPOIS`
+    KPOIs (:func:`makespan_rival`, :func:`parcover.algorithms.local_search.searched_branchcut`). The first proof stops
     the other. ``info["model"]`` names the method whose routes are returned (the one that
     proved them, when proven); the bound is the larger of every method's certified bound
     (:func:`parcover.solve` calls routes that meet it optimal)."""
@@ -214,12 +220,9 @@ def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, 
         # where the rival runs the local search, it hands each better routes to the decisions
         here = {**kwargs, "elsewhere": race.handed_reader(routes_file)}
         rival_kwargs = {**kwargs, "seed": seed + 1, "routes_file": str(routes_file)}
-        if problem.robots <= RACE_ROUTES and instance.n <= RACE_MAX_KPOIS:
-            rival, entrant = RACE_MODELS[1], "parcover.algorithms.local_search:searched_branchcut"
-            if problem.robots < SEARCH_FIRST_ROUTES:  # branch-and-cut alone, with all its time
-                entrant, rival_kwargs = f"milp.{RACE_MODELS[1]}:min_makespan", kwargs
-        else:
-            rival, entrant = "best", "parcover.algorithms.local_search:race_entrant"
+        rival, entrant = makespan_rival(instance.n, problem.robots)
+        if entrant == f"milp.{RACE_MODELS[1]}:min_makespan":  # branch-and-cut alone, with all its time
+            rival_kwargs = kwargs
         log.info("exact: branch-and-price, and %s in another process after %g s unless proven by then",
                  rival, BRANCHPRICE_FIRST)
         answers = race.race_here(RACE_MODELS[0], branchprice.min_makespan, {rival: entrant},
@@ -236,6 +239,20 @@ def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, 
         solution.info["model"] = "bounds" if solution.status == Status.OPTIMAL else RACE_MODELS[0]
         solution.info["message"] = f"routes by best's local search and PyVRP ({solution.info['message']})"
     return solution
+
+
+def makespan_rival(n: int, robots: int) -> tuple[str, str]:
+    """The name and entrant (``module:function``) of :func:`_race_makespan`'s rival on ``n``
+    KPOIs with ``robots`` robots: branch-and-cut up to :data:`RACE_ROUTES` robots and
+    :data:`RACE_MAX_KPOIS` KPOIs, after the local search from :data:`SEARCH_FIRST_ROUTES`
+    robots, or with 2 from :data:`SEARCH_FIRST_KPOIS` KPOIs (one route is a TSP, which
+    branch-and-cut proves from ``best``'s tour: st70, 4.5 s alone against 7.2 s after the
+    search); else the local search alone."""
+    if robots > RACE_ROUTES or n > RACE_MAX_KPOIS:
+        return "best", "parcover.algorithms.local_search:race_entrant"
+    if robots == 1 or (robots < SEARCH_FIRST_ROUTES and n < SEARCH_FIRST_KPOIS):
+        return RACE_MODELS[1], f"milp.{RACE_MODELS[1]}:min_makespan"
+    return RACE_MODELS[1], "parcover.algorithms.local_search:searched_branchcut"
 
 
 def _race_robots(instance: Instance, problem: Problem, time_limit: TimeLimit, seed: int,
@@ -612,7 +629,7 @@ def _solution(answer: Any) -> Solution:
 METHODS = (
     MethodInfo("exact", exact, f"proven optimum: setpart up to {SETPART_FIRST['makespan']} KPOIs, branchprice then "
                f"setpart to {SETPART_MAX_KPOIS}, branchprice to {BRANCHPRICE_MAX_KPOIS} (least makespan with at most "
-               f"{RACE_ROUTES} robots to {RACE_MAX_KPOIS} KPOIs: raced against branchcut, from {SEARCH_FIRST_ROUTES} robots after best, else against best; fewest robots above {ROOT_FIRST_MAX}: "
+               f"{RACE_ROUTES} robots to {RACE_MAX_KPOIS} KPOIs: raced against branchcut, from {SEARCH_FIRST_ROUTES} robots or 2 from {SEARCH_FIRST_KPOIS} KPOIs after best's and PyVRP's search, else against them; fewest robots above {ROOT_FIRST_MAX}: "
                "PyVRP looks for routes meeting its bound beside it), compact above (default)",
                ("warm_start", "export_model")),
     MethodInfo("compact", compact, "proven optimum: compact arc-flow MILP in HiGHS", ("warm_start", "export_model")),

@@ -191,6 +191,20 @@ def test_exact_hands_the_searched_routes_over_where_branch_and_cut_races(monkeyp
     assert makespan(instance.distances, answer.routes, tours=True) == pytest.approx(reference.objective, rel=1e-6)
     assert makespan(instance.distances, answer.routes, tours=True) <= values[-1] * (1 + 1e-9)
 
+def test_the_makespan_race_picks_its_rival_by_robots_and_size():
+    """Branch-and-cut alone with 1 robot, and with 2 below 60 KPOIs; after the local search
+    with 3 robots, and with 2 from 60 KPOIs; the local search alone with more robots or KPOIs than
+    branch-and-cut races for (``parcover.exact``'s constants)."""
+    from parcover.exact import RACE_MAX_KPOIS, makespan_rival
+
+    alone, searched = ("branchcut", "milp.branchcut:min_makespan"), (
+        "branchcut", "parcover.algorithms.local_search:searched_branchcut")
+    local_search = ("best", "parcover.algorithms.local_search:race_entrant")
+    assert makespan_rival(40, 2) == makespan_rival(59, 2) == makespan_rival(98, 1) == alone
+    assert makespan_rival(60, 2) == makespan_rival(98, 2) == makespan_rival(22, 3) == searched
+    assert makespan_rival(22, 4) == makespan_rival(RACE_MAX_KPOIS + 1, 2) == local_search
+
+
 def test_exact_races_within_its_time_limit():
     # 60 KPOIs, 2 tours: unproven in 6 s; the race and the first branch-and-price share it
     instance = generate.random_points(60, 3)
