@@ -120,8 +120,8 @@ RACE_ROUTES = 3
 RACE_MODELS = ("branchprice", "branchcut")
 #: The race's branch-and-cut gives a share of its time to ``best``'s and PyVRP's local
 #: search first (:func:`parcover.algorithms.local_search.searched_branchcut`) from this many
-#: robots, and with 2 from this many KPOIs (:func:`makespan_rival`). With 3 tours at 50 KPOIs the search found
-#: shorter routes that branch-and-cut never did. With 2 routes on 30-51 KPOIs (18 cells,
+#: robots, and with 2 from this many KPOIs (:func:`makespan_rival`). With 3 tours at 50
+#: KPOIs the search found shorter routes that branch-and-cut never did. With 2 routes on 30-51 KPOIs (18 cells,
 #: random and Necula's) it ended at the same answers and delayed proofs by up to its
 #: share (n = 40 tours at 20 s unproven, proven in 18 s without; eil51 30.3 -> 40.9 s); on
 #: 69-99 KPOIs (st70, eil76, pr76, rat99, kroA100 with 2 tours) proofs came sooner (pr76
@@ -129,6 +129,8 @@ RACE_MODELS = ("branchprice", "branchcut")
 #: which branch-and-cut alone never improved, and kroA100's routes and bound were
 #: better at the limit (milp/README.md).
 SEARCH_FIRST_ROUTES, SEARCH_FIRST_KPOIS = 3, 60
+#: The race's rival where branch-and-cut runs alone, with all its time (:func:`makespan_rival`).
+BRANCHCUT_ALONE = f"milp.{RACE_MODELS[1]}:min_makespan"
 #: ``exact`` races up to this many KPOIs: branch-and-cut's size limit.
 RACE_MAX_KPOIS = BRANCHCUT_MAX_KPOIS
 
@@ -221,7 +223,7 @@ def _race_makespan(instance: Instance, problem: Problem, time_limit: TimeLimit, 
         here = {**kwargs, "elsewhere": race.handed_reader(routes_file)}
         rival_kwargs = {**kwargs, "seed": seed + 1, "routes_file": str(routes_file)}
         rival, entrant = makespan_rival(instance.n, problem.robots)
-        if entrant == f"milp.{RACE_MODELS[1]}:min_makespan":  # branch-and-cut alone, with all its time
+        if entrant == BRANCHCUT_ALONE:  # it takes neither a seed nor a routes file
             rival_kwargs = kwargs
         log.info("exact: branch-and-price, and %s in another process after %g s unless proven by then",
                  rival, BRANCHPRICE_FIRST)
@@ -251,7 +253,7 @@ def makespan_rival(n: int, robots: int) -> tuple[str, str]:
     if robots > RACE_ROUTES or n > RACE_MAX_KPOIS:
         return "best", "parcover.algorithms.local_search:race_entrant"
     if robots == 1 or (robots < SEARCH_FIRST_ROUTES and n < SEARCH_FIRST_KPOIS):
-        return RACE_MODELS[1], f"milp.{RACE_MODELS[1]}:min_makespan"
+        return RACE_MODELS[1], BRANCHCUT_ALONE
     return RACE_MODELS[1], "parcover.algorithms.local_search:searched_branchcut"
 
 

@@ -191,6 +191,7 @@ def test_exact_hands_the_searched_routes_over_where_branch_and_cut_races(monkeyp
     assert makespan(instance.distances, answer.routes, tours=True) == pytest.approx(reference.objective, rel=1e-6)
     assert makespan(instance.distances, answer.routes, tours=True) <= values[-1] * (1 + 1e-9)
 
+
 def test_the_makespan_race_picks_its_rival_by_robots_and_size():
     """Branch-and-cut alone with 1 robot, and with 2 below 60 KPOIs; after the local search
     with 3 robots, and with 2 from 60 KPOIs; the local search alone with more robots or KPOIs than

@@ -94,14 +94,11 @@ log = logging.getLogger(__name__)
 # (its Held-Karp part then runs when expected within a quarter of them: 5% of the limit).
 _BOUND_SHARE = 0.2
 #: Share of its time :func:`searched_branchcut` gives the local search before branch-and-cut,
-#: with 3 routes or more, and with fewer (``exact`` asks for that from 60 KPOIs:
-#: :data:`parcover.exact.SEARCH_FIRST_KPOIS`). With 3 tours at 50 KPOIs a quarter found
-#: shorter routes that branch-and-cut never did; with 2 the warm start is nearer the
-#: optimum and branch-and-cut needs its time for the proof (Necula's eil76 with 2 tours,
-#: proven in 132-206 s, was unproven at 420 s behind a quarter), while 21 s (a twentieth
-#: of 420) from ``exact``'s warm start reached the optimum of eil76 (280.85) from 3 seeds
-#: of 3 and of rat99 (665.99) from 2 (668.71 from the third), PyVRP's searches each
-#: finding the next routes within 6 s (``milp/README.md``).
+#: with 3 routes or more, and with fewer (when ``exact`` asks for the search at all:
+#: :func:`parcover.exact.makespan_rival`). With 2 routes branch-and-cut needs its time for
+#: the proof (Necula's eil76, proven in 132-206 s, was unproven at 420 s behind a quarter),
+#: while 21 s (a twentieth of 420) reached the optimum of eil76 from 3 seeds of 3 and of
+#: rat99 from 2 (``milp/README.md``).
 SEARCH_FIRST_SHARE, FEW_ROUTES_SEARCH_SHARE = 0.25, 0.05
 _ROBOTS_SHARE = 0.4  # of the time limit, robots objective: the rest goes to fewer_robots
 _T_FIRST = 0.03  # annealing temperature at the first round, times the start's makespan
