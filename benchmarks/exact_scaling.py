@@ -27,6 +27,7 @@ from milp import setpart
 from milp.core.routes import least_makespan, makespan, route_cost, within
 from parcover import Instance, Problem
 from parcover import exact as parcover_exact
+from parcover.result import meets_bound
 
 MODELS = ("exact", "branchprice", "compact", "setpart", "mtz", "plain", "cpsat")
 #: The models run as parcover's methods run them (warm start from ``best`` included).
@@ -101,7 +102,9 @@ def solve_cell(instance: Instance, model: str, *, tours: bool, k: int | None,
     """One model on one problem: status, objective, bound, seconds (routes re-checked).
 
     The makespan (``k`` given) or robot count (``deadline`` given) is recomputed from
-    ``D`` and the routes; a route over the deadline makes the status ``invalid``.
+    ``D`` and the routes; a route over the deadline makes the status ``invalid``, one that
+    meets the model's proven bound ``optimal``, as :func:`parcover.solve` calls it
+    (:func:`parcover.result.meets_bound`).
     """
     D = instance.distances
     kind = "paths" if not tours else "tours"
@@ -139,6 +142,8 @@ def solve_cell(instance: Instance, model: str, *, tours: bool, k: int | None,
             objective = float(len(routes))
             if not all(within(route_cost(D, r, tours=tours), deadline) for r in routes):
                 status = "invalid"
+    if status == "feasible" and objective is not None and bound is not None and meets_bound(objective, bound):
+        status = "optimal"
     return {"status": status, "objective": objective, "bound": bound, "seconds": seconds, "message": ""}
 
 

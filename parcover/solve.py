@@ -24,12 +24,11 @@ from parcover.errors import InputError
 from parcover.instance import Instance, check_whole, finite_float, short_repr
 from parcover.memory import SOLVE_BYTES_PER_ENTRY, check_memory
 from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
-from parcover.result import Result, RoutesKind, Status, gap
+from parcover.result import Result, RoutesKind, Status, gap, meets_bound
 from parcover.verify import InvalidSolution, route_costs, verify
 
 __all__ = ["solve", "METHODS", "MethodInfo", "SolverError", "register_method", "method_with_options"]
 
-_VALUE_RTOL = 1e-9
 # Share of a time limit kept back from the method for verifying its routes, the
 # spanning-tree bound, printing and the process's exit (a few milliseconds, but 0.2 s
 # of exit after numba was loaded), and for the methods' uninterruptible steps (numba
@@ -270,9 +269,9 @@ def build_result(
 
     value = verdict.makespan if problem.objective == "makespan" else float(verdict.robots)
     bound = _best_bound(instance, problem, solution, verdict.makespan, time_left)
-    if bound > value * (1 + _VALUE_RTOL) + _VALUE_RTOL:
+    if not meets_bound(bound, value):
         raise SolverError(f"Method {method!r} reports bound {bound} above its value {value}.")
-    status = solution.status or (Status.OPTIMAL if value <= bound * (1 + _VALUE_RTOL) + _VALUE_RTOL else Status.FEASIBLE)
+    status = solution.status or (Status.OPTIMAL if meets_bound(value, bound) else Status.FEASIBLE)
     if status not in (Status.OPTIMAL, Status.FEASIBLE):
         raise SolverError(f"Method {method!r} claims {status.value} with routes.")
     return Result(

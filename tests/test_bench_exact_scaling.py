@@ -12,7 +12,7 @@ from benchmarks import exact_scaling, naive_models
 from benchmarks.common import Config, euclidean_distances, euclidean_points, run_peer
 from milp import setpart
 from milp.core.routes import least_makespan, route_cost, within
-from parcover import Instance
+from parcover import Instance, Solution
 
 HAS_ORTOOLS = importlib.util.find_spec("ortools") is not None
 CASES = [(n, tours) for n in (5, 6) for tours in (False, True)]
@@ -47,6 +47,20 @@ def test_compact_cell_matches_set_partitioning(tours: bool) -> None:
     assert least["status"] == fewest["status"] == "optimal"
     assert least["objective"] == pytest.approx(setpart.min_makespan(D, 2, tours=tours).objective)
     assert fewest["objective"] == setpart.min_robots(D, deadline, tours=tours).objective
+
+
+@pytest.mark.parametrize(("gap", "status"), [(1.5e-15, "optimal"), (1e-6, "feasible")])
+def test_a_cell_whose_routes_meet_their_bound_is_optimal(monkeypatch, gap: float, status: str) -> None:
+    # exact_scaling's n = 50, 2 paths cell: the race's bound 265.36483025112574 for
+    # routes of 265.36483025112614 (relative 1.5e-15) was counted unproven, though
+    # parcover.solve calls the same answer optimal
+    instance = Instance.from_points(euclidean_points(6, 3))
+    routes = [[1, 2, 3], [4, 5, 6]]
+    value = max(route_cost(instance.distances, r, tours=False) for r in routes)
+    monkeypatch.setitem(exact_scaling.PARCOVER_MODELS, "exact",
+                        lambda *a, **k: Solution(routes=routes, bound=value * (1 - gap)))
+    row = exact_scaling.solve_cell(instance, "exact", tours=False, k=2, deadline=None, limit=1)
+    assert row["status"] == status and row["objective"] == value
 
 
 def test_naive_models_refuse_coincident_kpois() -> None:
