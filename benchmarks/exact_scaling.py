@@ -27,7 +27,7 @@ from milp import setpart
 from milp.core.routes import least_makespan, makespan, route_cost, within
 from parcover import Instance, Problem
 from parcover import exact as parcover_exact
-from parcover.result import meets_bound
+from parcover.problem import meets_bound
 
 MODELS = ("exact", "branchprice", "compact", "setpart", "mtz", "plain", "cpsat")
 #: The models run as parcover's methods run them (warm start from ``best`` included).
@@ -104,7 +104,7 @@ def solve_cell(instance: Instance, model: str, *, tours: bool, k: int | None,
     The makespan (``k`` given) or robot count (``deadline`` given) is recomputed from
     ``D`` and the routes; a route over the deadline makes the status ``invalid``, one that
     meets the model's proven bound ``optimal``, as :func:`parcover.solve` calls it
-    (:func:`parcover.result.meets_bound`).
+    (:func:`parcover.problem.meets_bound`).
     """
     D = instance.distances
     kind = "paths" if not tours else "tours"

@@ -23,6 +23,7 @@ __all__ = [
     "Method",
     "MethodInfo",
     "meets_deadline",
+    "meets_bound",
     "DEADLINE_RTOL",
     "DEADLINE_ATOL",
 ]
@@ -34,6 +35,13 @@ DEADLINE_ATOL = 1e-9
 def meets_deadline(cost: float, deadline: float) -> bool:
     """docs/format.md section 1: ``cost <= deadline * (1 + 1e-9) + 1e-9``."""
     return cost <= deadline * (1 + DEADLINE_RTOL) + DEADLINE_ATOL
+
+
+def meets_bound(value: float, bound: float) -> bool:
+    """Whether ``value`` is no more than the proven lower ``bound`` up to the same
+    tolerance as a deadline (:func:`meets_deadline`; HiGHS's MIP gaps are 1e-9 too): then
+    it is optimal."""
+    return meets_deadline(value, bound)
 
 
 @dataclass(frozen=True)

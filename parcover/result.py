@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any, Literal
 
-__all__ = ["Status", "Result", "Frontier", "FrontierPoint", "RoutesKind", "Objective", "gap", "meets_bound", "plural"]
+__all__ = ["Status", "Result", "Frontier", "FrontierPoint", "RoutesKind", "Objective", "gap", "plural"]
 
 RoutesKind = Literal["paths", "tours"]
 Objective = Literal["makespan", "robots"]
@@ -53,17 +53,6 @@ def gap(value: float | None, bound: float | None) -> float | None:
     if value == 0:
         return 0.0
     return max(0.0, (value - bound) / value)
-
-
-#: Relative and absolute slack of :func:`meets_bound`: HiGHS's MIP gaps
-#: (``milp.core.highs.MIP_REL_GAP``), so a value equal to its bound up to rounding is proven.
-BOUND_RTOL = 1e-9
-
-
-def meets_bound(value: float, bound: float) -> bool:
-    """Whether ``value`` is no more than the proven lower ``bound``, up to
-    :data:`BOUND_RTOL` relative and absolute: then it is optimal."""
-    return value <= bound * (1 + BOUND_RTOL) + BOUND_RTOL
 
 
 @dataclass(frozen=True)

@@ -23,8 +23,8 @@ from parcover.bounds import lower_bound, robots_lower_bound
 from parcover.errors import InputError
 from parcover.instance import Instance, check_whole, finite_float, short_repr
 from parcover.memory import SOLVE_BYTES_PER_ENTRY, check_memory
-from parcover.problem import MethodInfo, Problem, Solution, meets_deadline
-from parcover.result import Result, RoutesKind, Status, gap, meets_bound
+from parcover.problem import MethodInfo, Problem, Solution, meets_bound, meets_deadline
+from parcover.result import Result, RoutesKind, Status, gap
 from parcover.verify import InvalidSolution, route_costs, verify
 
 __all__ = ["solve", "METHODS", "MethodInfo", "SolverError", "register_method", "method_with_options"]
