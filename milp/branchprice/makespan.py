@@ -116,9 +116,7 @@ def min_makespan(
         found, bound, message = proof
         return model_result("optimal", merged, D, found, makespan(merged.D, found, tours=tours), bound,
                             search.nodes, began, message + search.whose(found))
-    return model_result("feasible", merged, D, routes, value, lower, search.nodes, began,
-                        ("time limit" if search.out_of_time() else "a node could not be branched on")
-                        + search.whose(routes))
+    return model_result("feasible", merged, D, routes, value, lower, search.nodes, began, search.unproven(routes))
 
 
 class _MakespanDecisions:

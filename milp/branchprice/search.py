@@ -138,6 +138,7 @@ from milp.branchprice.tree import (
     Settled,
     Why,
     rounded_up,
+    share_text,
 )
 from milp.core.highs import make_lp, new_highs
 from milp.core.merge import Merged, checked_start, merge_zero_distances, model_result
@@ -298,6 +299,9 @@ class BranchAndPrice:
         self.elsewhere: Callable[[], list[list[int]] | None] | None = None
         self.handed: list[list[int]] | None = None  # polled, not yet taken by the tree
         self.taken: list[list[int]] | None = None  # the last routes the tree took
+        #: The share of the last decision's tree closed (tree.Decision.closed_share); None
+        #: before the first decision
+        self.tree_closed: float | None = None
         self.progress = Every(log)  # column generation's progress lines (--log)
 
     @contextmanager
@@ -329,6 +333,13 @@ class BranchAndPrice:
         """What an answer's message adds when ``routes`` are the last the tree took from
         another method."""
         return " (routes from another method)" if routes is not None and routes is self.taken else ""
+
+    def unproven(self, routes: list[list[int]] | None) -> str:
+        """The message of an answer left unproven with ``routes``: why the search stopped
+        and how much of its last tree it had closed (:attr:`tree_closed`), when one ran."""
+        why = "time limit" if self.out_of_time() else "a node could not be branched on"
+        closed = "" if self.tree_closed is None else f", {share_text(self.tree_closed)} of the last tree closed"
+        return f"{why}{closed}{self.whose(routes)}"
 
     @contextmanager
     def handing(self, elsewhere: Callable[[], list[list[int]] | None]) -> Iterator[None]:
@@ -749,6 +760,7 @@ class BranchAndPrice:
         """
         tree = Decision(self, budget, incumbent, target, first=first, improve=improve, floor=floor)
         outcome = tree.run()
+        self.tree_closed = tree.closed_share
         return tree.best, tree.root_bound, outcome
 
     def enumerate_node(self, node: Node, outcome: LpOutcome, budget: float, target: int, *,
@@ -939,10 +951,9 @@ def min_robots(
         routes, root, outcome = search.fewest_routes(budget, start, len(start) - 1, first=False, improve=better,
                                                      floor=trivial)
     bound = max(trivial, root or 1)
-    whose = search.whose(routes)
     if outcome == Ending.EXHAUSTED or len(routes) <= bound:
         return model_result("optimal", merged, D, routes, len(routes), len(routes), search.nodes, began,
                        ("branch-and-price tree closed" if outcome == Ending.EXHAUSTED else "routes meet the bound")
-                       + whose)
+                       + search.whose(routes))
     return model_result("feasible", merged, D, routes, len(routes), bound, search.nodes, began,
-                   ("time limit" if search.out_of_time() else "a node could not be branched on") + whose)
+                        search.unproven(routes))

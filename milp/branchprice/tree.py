@@ -5,7 +5,8 @@
 of :mod:`milp.branchprice` is one): each node is solved by column generation
 (:meth:`Search.solve_node`), closed by its certified bound rounded up
 (:func:`rounded_up`), answered by route enumeration (:class:`Settled`) or by an integral
-master, or split on an arc flow (:meth:`milp.branchprice.columns.Node.children`). The primal side runs
+master, or split on an arc flow (:meth:`milp.branchprice.columns.Node.children`). Its progress is
+the share of the tree closed (:attr:`Decision.closed_share`). The primal side runs
 here too: the integer master over the pool at the root and whenever the pool has grown
 :data:`POOL_GROWTH` times, the caller's ``improve`` heuristic once at the root, and routes
 another method hands over (:meth:`Search.routes_elsewhere`), taken before and after each
@@ -27,7 +28,7 @@ from milp.core.progress import Every
 
 log = logging.getLogger(__name__)
 
-__all__ = ["Decision", "Search", "NodeOutcome", "Why", "Ending", "Settled", "Improve", "rounded_up", "ROUND",
+__all__ = ["Decision", "Search", "NodeOutcome", "Why", "Ending", "Settled", "Improve", "rounded_up", "share_text", "ROUND",
            "POOL_GROWTH"]
 
 #: A heuristic asked for routes (KPOIs ``1..n``) with at most the given number of routes
@@ -163,7 +164,13 @@ class Decision:
         self.pool_tried = 0  # the pool's size when the integer master last ran
         self.began = time.perf_counter()  # the root's seconds, for improve, count from here
         self.progress = Every(log)
-        self.closed = 0  # nodes closed by their bound or answered by enumeration
+        self.closed = 0  # nodes closed: by their bound, answered by enumeration, or integral
+        #: The share of the tree closed: the sum of ``2 ** -depth`` over the closed nodes
+        #: (each branching halves a node's share between its children; Knuth, "Estimating the
+        #: efficiency of backtrack programs", Math. Comp. 29, 1975). 1 when the tree is exhausted;
+        #: how much of the tree is settled, not how much time is left (depth first leaves
+        #: the deep parts of the imposed side for last).
+        self.closed_share = 0.0
 
     def run(self) -> Ending:
         """Search the tree; how it ended. With logging on, a line every
@@ -192,8 +199,9 @@ class Decision:
         if not self.progress.due():
             return
         depth = max((node.depth for node in stack), default=0)
-        log.info("branch-and-price: %d nodes solved, %d closed, %d open (deepest %d branchings), "
-                 "looking for %d routes", self.search.nodes, self.closed, len(stack), depth, self.target)
+        log.info("branch-and-price: %d nodes solved, %d closed (%s of the tree), %d open (deepest %d "
+                 "branchings), looking for %d routes", self.search.nodes, self.closed, share_text(self.closed_share),
+                 len(stack), depth, self.target)
 
     def _visit(self, node: Node) -> tuple[Ending | None, list[Node]]:
         """Solve ``node``: how the search ends there (:attr:`Ending.FOUND`, :attr:`Ending.LEAST`,
@@ -233,13 +241,12 @@ class Decision:
         if outcome.why == Why.TIME_LIMIT:
             return Ending.UNKNOWN, []
         if rounded > self.target or settled is not None:
-            self.closed += 1
-            return None, []  # closed by its bound, or answered by enumeration
+            return self._closed(node)  # by its bound, or answered by enumeration
         if outcome.why != Why.SOLVED:
             self.unresolved = True
             return None, []
         if search.integral_routes(outcome) is not None:
-            return None, []  # an integral LP optimum: nothing better below this node
+            return self._closed(node)  # an integral LP optimum: nothing better below this node
         arc = search.branching_arc(node, outcome, self.target)
         if arc is None:  # integral arc flows, fractional lambda: crossing routes
             routes = search.support_covering(outcome)
@@ -247,9 +254,16 @@ class Decision:
                 return Ending.FOUND, []
             if routes is None or len(routes) > rounded:
                 self.unresolved = True
-            return None, []
+                return None, []
+            return self._closed(node)  # its covering meets its bound
         one, zero = node.children(arc, tours=search.tours)
         return None, [zero, one]  # imposing first
+
+    def _closed(self, node: Node) -> tuple[None, list[Node]]:
+        """Count ``node`` closed (:attr:`closed_share`): nothing below it to search."""
+        self.closed += 1
+        self.closed_share += 2.0 ** -node.depth
+        return None, []
 
     def _root_candidates(self, rounded: float) -> list[list[list[int]] | None]:
         """At the root, routes that may beat the target: the integer master over the pool
@@ -275,6 +289,13 @@ class Decision:
         self.best, self.target = routes, len(routes) - 1
         log.info("branch-and-price: %d routes found, %d nodes", len(routes), self.search.nodes)
         return self.first or len(routes) <= self.floor
+
+
+def share_text(share: float) -> str:
+    """A share of a tree (:attr:`Decision.closed_share`) in percent, for messages: three
+    significant digits, and never 100% short of 1 (a deep tree leaves shares of 1e-6)."""
+    percent = 100 * share
+    return "100%" if share >= 1 else f"{min(float(f'{percent:.3g}'), 99.9):g}%"
 
 
 def rounded_up(bound: float) -> float:

@@ -257,11 +257,12 @@ def test_a_branching_tree_logs_its_progress(monkeypatch, caplog):
     messages = [record.getMessage() for record in caplog.records]
     assert any(re.search(r"root LP needs at least \d+ routes \(\d+ allowed; LP bound [\d.]+, \w", m)
                for m in messages)
-    nodes = [re.search(r"(\d+) nodes solved, (\d+) closed, (\d+) open \(deepest (\d+) branchings\)", m)
-             for m in messages]
-    nodes = [tuple(map(int, p.groups())) for p in nodes if p]
+    nodes = [re.search(r"(\d+) nodes solved, (\d+) closed \(([\d.]+)% of the tree\), (\d+) open "
+                       r"\(deepest (\d+) branchings\)", m) for m in messages]
+    nodes = [tuple(map(float, p.groups())) for p in nodes if p]
     assert nodes and any(depth > 0 for *_, depth in nodes)
-    assert all(closed <= solved for solved, closed, _, _ in nodes)
+    assert all(closed <= solved and 0 <= share <= 100 for solved, closed, share, _, _ in nodes)
+    assert any(0 < share < 100 for _, _, share, _, _ in nodes)  # part of a tree closed, part open
     generation = [re.search(r"column generation, node (\d+): LP ([\d.]+) routes, bound ([\d.]+), "
                             r"after (\d+) pricing rounds \((\d+) columns, (\d+) cuts\)", m) for m in messages]
     generation = [g.groups() for g in generation if g]
@@ -271,6 +272,33 @@ def test_a_branching_tree_logs_its_progress(monkeypatch, caplog):
     assert any(re.search(r"exact pricing: \d+ labellings so far .* best route prize [\d.]+", m) for m in messages)
     root = Node.root(3)
     assert [child.depth for child in root.children((1, 2), tours=False)] == [1, 1]
+
+
+def test_an_exhausted_tree_has_closed_all_of_its_share(monkeypatch):
+    """A decision proven infeasible by branching has closed shares 2^-depth summing to
+    exactly 1 (a closing path left uncounted, or a node counted twice, would miss it).
+    Paths: the tours decisions at the optimum of such small instances close at the root."""
+    monkeypatch.setattr(branchprice, "ENUMERATION_ROUTES", (0, -1))  # the tree, not enumeration
+    D = euclidean(16, 1)  # branches (test_a_branching_tree_logs_its_progress)
+    optimum = setpart.min_makespan(D, 4, tours=False).objective
+    search = branchprice.BranchAndPrice(branchprice.prepared(D)[1].D, tours=False, ends_at=None)
+    found, _, ending = search.fewest_routes(optimum * (1 - 1e-6), None, 4, first=True)
+    assert ending == tree.Ending.EXHAUSTED and found is None
+    assert search.nodes > 1 and search.tree_closed == 1.0
+    assert tree.share_text(1.0) == "100%" and tree.share_text(1 - 1e-9) == "99.9%"
+    assert tree.share_text(0.25) == "25%" and tree.share_text(2.0 ** -20) == "9.54e-05%"
+
+
+def test_an_unproven_answer_says_how_much_of_its_tree_it_closed():
+    """Stopped by its time limit, a fewest-robots and a makespan answer carry the share of
+    their last tree closed in the message."""
+    D = euclidean(60, 3)
+    least = least_makespan(D, tours=True)
+    robots = branchprice.min_robots(D, 1.2 * least, tours=True, time_limit=1.0)
+    makespan = makespan_search.min_makespan(D, 5, tours=True, time_limit=1.0)
+    for answer in (robots, makespan):
+        assert answer.status == "feasible", answer.message
+        assert re.fullmatch(r"time limit, [\d.e-]+% of the last tree closed.*", answer.message), answer.message
 
 
 def clustered(n: int, seed: int) -> np.ndarray:
