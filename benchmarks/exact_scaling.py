@@ -99,7 +99,9 @@ def grid(quick: bool) -> list[dict]:
 
 def solve_cell(instance: Instance, model: str, *, tours: bool, k: int | None,
                deadline: float | None, limit: float) -> dict:
-    """One model on one problem: status, objective, bound, seconds (routes re-checked).
+    """One model on one problem: status, objective, bound, seconds (routes re-checked) and
+    the model's message (why it stopped; for branch-and-price unproven, the share of its last
+    tree closed).
 
     The makespan (``k`` given) or robot count (``deadline`` given) is recomputed from
     ``D`` and the routes; a route over the deadline makes the status ``invalid``, one that
@@ -117,12 +119,13 @@ def solve_cell(instance: Instance, model: str, *, tours: bool, k: int | None,
                     "seconds": answer.get("seconds"), "message": answer.get("error") or answer.get("unavailable")}
         routes, status = answer["routes"], answer["status"]
         bound, seconds = answer["bound"], answer["seconds"]
+        message = ""
     elif model in PARCOVER_MODELS:
         problem = Problem(kind, robots=k) if k is not None else Problem(kind, deadline=deadline)
         began = time.perf_counter()
         solution = PARCOVER_MODELS[model](instance, problem, time_limit=limit)
         seconds = time.perf_counter() - began
-        routes, bound = solution.routes, solution.bound
+        routes, bound, message = solution.routes, solution.bound, solution.info.get("message") or ""
         status = solution.status.value if solution.status is not None else "feasible"
     else:
         solver = {
@@ -132,6 +135,7 @@ def solve_cell(instance: Instance, model: str, *, tours: bool, k: int | None,
         }[model][0 if k is not None else 1]
         result = solver(D, k if k is not None else deadline, tours=tours, time_limit=limit)
         routes, status, bound, seconds = result.routes, result.status, result.bound, result.seconds
+        message = result.message
     objective = None
     if routes:
         if k is not None:
@@ -144,7 +148,7 @@ def solve_cell(instance: Instance, model: str, *, tours: bool, k: int | None,
                 status = "invalid"
     if status == "feasible" and objective is not None and bound is not None and meets_bound(objective, bound):
         status = "optimal"
-    return {"status": status, "objective": objective, "bound": bound, "seconds": seconds, "message": ""}
+    return {"status": status, "objective": objective, "bound": bound, "seconds": seconds, "message": message}
 
 
 def proven_time(row: dict) -> float | None:
