@@ -93,7 +93,9 @@ def min_makespan(
     # a bisection cut short by its cap gets the last share of the limit back after the
     # decisions (only the bound is left to gain there), so a long limit still buys the
     # bound while the decisions run the same whatever the limit; what the resumed
-    # bisection leaves goes back to the decisions
+    # bisection leaves goes back to the decisions (the tree the stop left open goes on:
+    # restarted, a tree 87.5% closed at the stop was 45% closed at the limit, uniform
+    # 60 KPOIs k = 4 tours seed 1, 600 s)
     resume = cut_short and ends_at is not None
     decisions = _MakespanDecisions(search, k, routes, value)
 
@@ -134,7 +136,9 @@ class _MakespanDecisions:
         while not search.out_of_time():
             if self.value <= lower * (1 + STRICT):
                 return self.routes, self.value, "lower bound reached"
-            found, _, outcome = search.fewest_routes(self.value * (1 - STRICT), None, self.k, first=True)
+            # resume: after the resumed bisection, the tree at the same makespan goes on
+            found, _, outcome = search.fewest_routes(self.value * (1 - STRICT), None, self.k, first=True,
+                                                     resume=True)
             if outcome == Ending.LEAST:
                 return found, lower, "least makespan over the routes enumerated at the root"
             if outcome == Ending.FOUND:

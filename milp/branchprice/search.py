@@ -302,6 +302,9 @@ class BranchAndPrice:
         #: The share of the last decision's tree closed (tree.Decision.closed_share); None
         #: before the first decision
         self.tree_closed: float | None = None
+        #: The last decision's tree when the time limit stopped it short of an ending
+        #: (:attr:`tree.Decision.resumable`), for :meth:`fewest_routes` to resume; else None
+        self.stopped: Decision | None = None
         self.progress = Every(log)  # column generation's progress lines (--log)
 
     @contextmanager
@@ -738,7 +741,7 @@ class BranchAndPrice:
         return colgen.fewest_covering(orders, self.m, self._integer_master_seconds())
 
     def fewest_routes(self, budget: float, incumbent: list[list[int]] | None, target: int,
-                      *, first: bool, improve: Improve | None = None, floor: int = 1,
+                      *, first: bool, improve: Improve | None = None, floor: int = 1, resume: bool = False,
                       ) -> tuple[list[list[int]] | None, int | None, Ending]:
         """Branch-and-price for the fewest routes within ``budget``.
 
@@ -748,7 +751,10 @@ class BranchAndPrice:
         of ``floor`` routes (a bound the caller proved). ``improve``, when the root
         does not prove the incumbent, is asked once for routes meeting the root's bound.
         The integer master over the pool runs at the root and again below it whenever the
-        pool has grown :data:`milp.branchprice.tree.POOL_GROWTH` times.
+        pool has grown :data:`milp.branchprice.tree.POOL_GROWTH` times. With ``resume``, a
+        tree the time limit stopped (:attr:`stopped`) at the same ``budget`` and ``target``
+        goes on instead of a new one (a bound resumed between two runs of the makespan
+        search: :func:`milp.branchprice.makespan.min_makespan`).
 
         Returns
         -------
@@ -758,8 +764,11 @@ class BranchAndPrice:
             (:class:`milp.branchprice.tree.Ending`; with :attr:`~Ending.EXHAUSTED`,
             ``target`` is one below the returned routes' count when any were found).
         """
-        tree = Decision(self, budget, incumbent, target, first=first, improve=improve, floor=floor)
+        tree = self.stopped
+        if not (resume and tree is not None and tree.budget == budget and tree.target == target):
+            tree = Decision(self, budget, incumbent, target, first=first, improve=improve, floor=floor)
         outcome = tree.run()
+        self.stopped = tree if outcome == Ending.UNKNOWN and tree.resumable else None
         self.tree_closed = tree.closed_share
         return tree.best, tree.root_bound, outcome
 

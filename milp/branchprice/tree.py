@@ -164,6 +164,9 @@ class Decision:
         self.pool_tried = 0  # the pool's size when the integer master last ran
         self.began = time.perf_counter()  # the root's seconds, for improve, count from here
         self.progress = Every(log)
+        #: The nodes left to search, the next one last; a run stopped by the time limit leaves
+        #: them here (with a node whose column generation it cut short), for :meth:`run` to resume.
+        self.stack = [Node.root(search.m)]
         self.closed = 0  # nodes closed: by their bound, answered by enumeration, or integral
         #: The share of the tree closed: the sum of ``2 ** -depth`` over the closed nodes
         #: (each branching halves a node's share between its children; Knuth, "Estimating the
@@ -175,22 +178,31 @@ class Decision:
     def run(self) -> Ending:
         """Search the tree; how it ended. With logging on, a line every
         :data:`milp.core.progress.PROGRESS_SECONDS`: nodes solved and closed, nodes open, the
-        deepest open one."""
+        deepest open one. Stopped by the time limit (:attr:`resumable`), a second run goes on
+        from the nodes left open, its closed nodes and share kept: a closed node stays proven
+        whatever the search learned since (its pool and ng-memories only add columns and
+        strengthen the relaxation)."""
         ending = self._search()
         if ending in (Ending.EXHAUSTED, Ending.UNKNOWN) and self._accept(self.search.routes_elsewhere()):
             return Ending.FOUND  # the last nodes may have closed against them
         return ending
 
+    @property
+    def resumable(self) -> bool:
+        """Whether another :meth:`run` could still close the tree: nodes are left and none
+        was left open for good."""
+        return bool(self.stack) and not self.unresolved
+
     def _search(self) -> Ending:
         """The depth-first search of :meth:`run`, until an ending."""
-        stack = [Node.root(self.search.m)]
+        stack = self.stack
         while stack:
             if self.search.out_of_time():
                 return Ending.UNKNOWN
             ended, children = self._visit(stack.pop())
+            stack.extend(children)
             if ended is not None:
                 return ended
-            stack.extend(children)
             self._report(stack)
         return Ending.UNKNOWN if self.unresolved else Ending.EXHAUSTED
 
@@ -205,10 +217,11 @@ class Decision:
 
     def _visit(self, node: Node) -> tuple[Ending | None, list[Node]]:
         """Solve ``node``: how the search ends there (:attr:`Ending.FOUND`, :attr:`Ending.LEAST`,
-        :attr:`Ending.UNKNOWN`), or None and the children to search (none when the node is closed
-        by its bound, answered by enumeration, or integral)."""
+        :attr:`Ending.UNKNOWN`), or None; and the nodes to search next: its children (none when
+        it is closed by its bound, answered by enumeration, or integral), or the node itself
+        when the time limit cut its column generation short."""
         search, budget = self.search, self.budget
-        at_root = self.root_bound is None
+        at_root = node.depth == 0
         if self._accept(search.routes_elsewhere()):
             return Ending.FOUND, []
         if not at_root and len(search.pool) >= POOL_GROWTH * self.pool_tried and self._accept(self._pool_covering()):
@@ -216,7 +229,7 @@ class Decision:
         outcome = search.solve_node(node, budget, self.target)
         rounded = rounded_up(outcome.bound)
         if at_root:
-            self.root_bound = max(1, rounded) if math.isfinite(rounded) else None
+            self.root_bound = max(1, rounded, self.root_bound or 1) if math.isfinite(rounded) else None
             log.info("branch-and-price: the root LP needs at least %s routes (%d allowed; LP bound %.6g, %s)",
                      self.root_bound, self.target, outcome.bound, outcome.why)
         if self._accept(search.routes_elsewhere()):  # the node may have closed against them
@@ -239,7 +252,7 @@ class Decision:
         if outcome.why == Why.SOLVED and rounded <= self.target and self._accept(search.integral_routes(outcome)):
             return Ending.FOUND, []
         if outcome.why == Why.TIME_LIMIT:
-            return Ending.UNKNOWN, []
+            return Ending.UNKNOWN, [node]  # solved again if the tree is resumed
         if rounded > self.target or settled is not None:
             return self._closed(node)  # by its bound, or answered by enumeration
         if outcome.why != Why.SOLVED:

@@ -289,6 +289,27 @@ def test_an_exhausted_tree_has_closed_all_of_its_share(monkeypatch):
     assert tree.share_text(0.25) == "25%" and tree.share_text(2.0 ** -20) == "9.54e-05%"
 
 
+def test_a_tree_stopped_by_its_time_limit_resumes_where_it_stopped(monkeypatch):
+    """The decision of test_an_exhausted_tree_has_closed_all_of_its_share, its clock run out
+    after a few nodes (one of them cut short inside its column generation), then resumed:
+    the same tree goes on and closes all of its share (a node dropped at the stop would
+    leave its share missing; a new tree would leave the stopped one's share below 1)."""
+    monkeypatch.setattr(branchprice, "ENUMERATION_ROUTES", (0, -1))  # the tree, not enumeration
+    D = euclidean(16, 1)
+    budget = setpart.min_makespan(D, 4, tours=False).objective * (1 - 1e-6)
+    search = branchprice.BranchAndPrice(branchprice.prepared(D)[1].D, tours=False, ends_at=None)
+    polls = iter(range(10 ** 9))
+    monkeypatch.setattr(search, "out_of_time", lambda: search.nodes >= 4 and next(polls) >= 1)
+    _, _, ending = search.fewest_routes(budget, None, 4, first=True)
+    stopped = search.stopped
+    assert ending == tree.Ending.UNKNOWN and stopped is not None and stopped.resumable
+    assert 0 <= stopped.closed_share < 1 and search.tree_closed == stopped.closed_share
+    monkeypatch.setattr(search, "out_of_time", lambda: False)
+    found, _, ending = search.fewest_routes(budget, None, 4, first=True, resume=True)
+    assert ending == tree.Ending.EXHAUSTED and found is None
+    assert stopped.closed_share == 1.0 and search.tree_closed == 1.0 and search.stopped is None
+
+
 def test_an_unproven_answer_says_how_much_of_its_tree_it_closed():
     """Stopped by its time limit, a fewest-robots and a makespan answer carry the share of
     their last tree closed in the message."""
@@ -655,7 +676,7 @@ def test_a_makespan_bisection_cut_short_resumes_after_the_decisions(monkeypatch)
     decisions (here: waiting out their time, as hard ones do) then stop a quarter of the
     limit early, and the bisection resumes in that quarter: the bound reported is the
     bisection's converged bound, not the trivial one it started from. The time the
-    resumed bisection leaves goes back to the decisions."""
+    resumed bisection leaves goes back to the decisions, which ask for their tree to resume."""
     D = euclidean(12, 3)
     k, tours = 3, False
     start = [[1, 2, 3, 4], [5, 6, 7, 8], [9, 10, 11, 12]]
@@ -664,11 +685,13 @@ def test_a_makespan_bisection_cut_short_resumes_after_the_decisions(monkeypatch)
     full, _ = makespan_search._makespan_lp_bound(branchprice.BranchAndPrice(D, tours=tours, ends_at=None), k,
                                              lower, value, None)
     stopped: list[float] = []
+    resumes: list[bool] = []
 
-    def undecided(self, budget, incumbent, target, *, first, improve=None, floor=1):
+    def undecided(self, budget, incumbent, target, *, first, improve=None, floor=1, resume=False):
         while not self.out_of_time():
             time.sleep(0.01)
         stopped.append(time.perf_counter())
+        resumes.append(resume)
         return None, None, tree.Ending.UNKNOWN
 
     monkeypatch.setattr(makespan_search, "BISECTION_SECONDS", 1e-6)
@@ -678,5 +701,6 @@ def test_a_makespan_bisection_cut_short_resumes_after_the_decisions(monkeypatch)
     assert result.status == "feasible" and result.objective == pytest.approx(value)
     assert stopped and stopped[0] - began == pytest.approx(3.0, abs=0.5)  # 4 s less a quarter
     assert len(stopped) == 2 and stopped[1] - began == pytest.approx(4.0, abs=0.5)  # and the rest
+    assert resumes == [True, True]
     assert full > 1.01 * lower  # the bisection has something to gain here
     assert result.bound >= full * (1 - 1e-3)
