@@ -136,7 +136,6 @@ class _MakespanDecisions:
         while not search.out_of_time():
             if self.value <= lower * (1 + STRICT):
                 return self.routes, self.value, "lower bound reached"
-            # resume: after the resumed bisection, the tree at the same makespan goes on
             found, _, outcome = search.fewest_routes(self.value * (1 - STRICT), None, self.k, first=True,
                                                      resume=True)
             if outcome == Ending.LEAST:
